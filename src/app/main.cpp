@@ -1,0 +1,39 @@
+// pbxmpm: mesoscale MPM for polymer-bonded explosives. See README.md.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+
+#ifdef PBXMPM_HAVE_MPI
+#include <mpi.h>
+#endif
+
+int main(int argc, char** argv) {
+  CLI::App app{"pbxmpm " PBXMPM_VERSION " (" PBXMPM_GIT
+               "): material point method for the mesoscale mechanics of polymer-bonded explosives"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "pbxmpm " PBXMPM_VERSION " (" PBXMPM_GIT ")");
+  pbx::app::register_run(app);
+  pbx::app::register_material(app);
+  pbx::app::register_pack(app);
+  pbx::app::register_analysis(app);
+  pbx::app::register_study(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const pbx::InputError& e) {
+    std::fprintf(stderr, "pbxmpm: input error: %s\n", e.what());
+    return 2;
+  } catch (const pbx::InstabilityError& e) {
+    std::fprintf(stderr, "pbxmpm: run stopped, unstable: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pbxmpm: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,81 @@
+#pragma once
+// Validated access to TOML decks. Every read records the key as used; Deck::check_unused() then
+// turns any key nobody read into an error naming it and its line, so a typo never passes silently.
+// Quantities are SI numbers or strings with units (see core/units.hpp).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/units.hpp"
+
+namespace pbx {
+
+class Deck;
+
+class DeckTable {
+ public:
+  // Dotted path of this table inside the deck, e.g. "materials.tatb" ("" for the root).
+  const std::string& path() const { return path_; }
+  bool has(const std::string& key) const;
+  std::vector<std::string> keys() const;
+
+  // Required when no default is given. Errors name the key and line.
+  double quantity(const std::string& key, const Dimension& d, std::optional<double> def = {}) const;
+  double number(const std::string& key, std::optional<double> def = {}) const;
+  long integer(const std::string& key, std::optional<long> def = {}) const;
+  bool boolean(const std::string& key, std::optional<bool> def = {}) const;
+  std::string string(const std::string& key, std::optional<std::string> def = {}) const;
+  std::vector<double> quantities(const std::string& key, const Dimension& d) const;
+  std::vector<std::string> strings(const std::string& key) const;
+
+  DeckTable table(const std::string& key) const;  // required sub-table
+  std::optional<DeckTable> optional_table(const std::string& key) const;
+  std::vector<DeckTable> tables(const std::string& key) const;  // array of tables ([[key]])
+
+  // Range checks that name the key: throw InputError unless the condition holds.
+  double positive(const std::string& key, const Dimension& d, std::optional<double> def = {}) const;
+  double non_negative(const std::string& key, const Dimension& d, std::optional<double> def = {}) const;
+  double in_range(const std::string& key, double lo, double hi, std::optional<double> def = {}) const;
+
+  // Throws InputError "<file>:<line>: <path.key>: <msg>".
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const;
+  std::string where(const std::string& key) const;  // "file:line: path.key"
+
+ private:
+  friend class Deck;
+  DeckTable(const Deck* deck, const void* node, std::string path)
+      : deck_(deck), node_(node), path_(std::move(path)) {}
+  const void* child(const std::string& key) const;  // toml::node*, marks the key used
+  const Deck* deck_ = nullptr;
+  const void* node_ = nullptr;  // toml::table*
+  std::string path_;
+};
+
+class Deck {
+ public:
+  static Deck from_file(const std::string& file);
+  static Deck from_string(const std::string& text, const std::string& name = "<string>");
+  Deck(Deck&&) noexcept;
+  Deck& operator=(Deck&&) noexcept;
+  ~Deck();
+
+  DeckTable root() const;
+  const std::string& name() const;     // file name used in messages
+  const std::string& text() const;     // the deck's text as read
+  const std::string& directory() const;  // folder of the deck file (for relative paths)
+  // Throws InputError naming the first key that was never read ("unknown key").
+  void check_unused() const;
+  // Resolves a path written in the deck relative to the deck's folder.
+  std::string resolve(const std::string& relative) const;
+  // Re-serialises the whole deck as JSON (for run.json).
+  std::string to_json() const;
+
+ private:
+  friend class DeckTable;
+  Deck();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pbx

@@ -1,0 +1,65 @@
+// Isotropic linear elasticity, hypoelastic: Jaumann rate integrated with the Hughes-Winget
+// incremental rotation, sigma_n+1 = R sigma_n R^T + (lambda tr(D) I + 2 G D) dt.
+#include <cmath>
+
+#include "io/deck.hpp"
+#include "materials/models.hpp"
+
+namespace pbx {
+
+namespace {
+template <int D>
+class LinearElastic final : public Material<D> {
+ public:
+  LinearElastic(double rho, double K, double G) : rho_(rho), K_(K), G_(G) {}
+  std::string model() const override { return "linear_elastic"; }
+  double density() const override { return rho_; }
+  double initial_wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho_); }
+
+  MaterialStepResult update(const MaterialBatch<D>& b) const override {
+    MaterialStepResult r;
+    const double lambda = K_ - 2.0 * G_ / 3.0, M = K_ + 4.0 * G_ / 3.0;
+    double work = 0, cmax2 = 0;
+    for (std::size_t k = 0; k < b.index.size(); ++k) {
+      const auto p = b.index[k];
+      const Mat3 L = embed3<D>(b.L[p]);
+      const Sym3 Ddt = (b.dt) * sym_part(L);
+      const Sym3 s0 = b.stress[p];
+      Sym3 s = rotate(s0, hughes_winget(skew_part(L), b.dt));
+      s += Sym3::identity(lambda * Ddt.trace()) + (2.0 * G_) * Ddt;
+      b.stress[p] = s;
+      work += stress_work(s0, s, Ddt, b.volume[p]);
+      const double c2 = M * b.volume[p] / b.mass[p];
+      cmax2 = std::max(cmax2, c2);
+    }
+    r.stress_work = work;
+    r.max_wave_speed = std::sqrt(cmax2);
+    return r;
+  }
+
+ private:
+  double rho_, K_, G_;
+};
+}  // namespace
+
+template <int D>
+std::unique_ptr<Material<D>> make_linear_elastic(const DeckTable& t, const MaterialContext&) {
+  const double rho = t.positive("density", dim::density);
+  double K, G;
+  if (t.has("youngs_modulus") || t.has("poisson_ratio")) {
+    const double E = t.positive("youngs_modulus", dim::pressure);
+    const double nu = t.number("poisson_ratio");
+    if (!(nu > -1.0 && nu < 0.5)) t.fail("poisson_ratio", "must lie in (-1, 0.5)");
+    K = E / (3.0 * (1.0 - 2.0 * nu));
+    G = E / (2.0 * (1.0 + nu));
+  } else {
+    K = t.positive("bulk_modulus", dim::pressure);
+    G = t.positive("shear_modulus", dim::pressure);
+  }
+  return std::make_unique<LinearElastic<D>>(rho, K, G);
+}
+
+template std::unique_ptr<Material<2>> make_linear_elastic<2>(const DeckTable&, const MaterialContext&);
+template std::unique_ptr<Material<3>> make_linear_elastic<3>(const DeckTable&, const MaterialContext&);
+
+}  // namespace pbx

@@ -1,0 +1,50 @@
+#pragma once
+// Material points as structure-of-arrays. Storage order never changes during a run (particles are
+// created sorted by cell), so material batches and history slots stay valid; the solver keeps
+// separate bin lists for race-free parallel scatter (see solver/bins.hpp).
+#include <cstdint>
+#include <vector>
+
+#include "core/tensor.hpp"
+
+namespace pbx {
+
+template <int D>
+struct Particles {
+  std::vector<Vec<D>> x;         // position, m
+  std::vector<Vec<D>> v;         // velocity, m/s
+  std::vector<double> mass;      // physical mass per unit depth (2D: kg/m), unscaled
+  std::vector<double> volume0;   // reference volume (2D: m^2 per unit depth)
+  std::vector<double> volume;    // current volume = J * volume0
+  std::vector<Mat<D>> F;         // deformation gradient
+  std::vector<Mat<D>> L;         // velocity gradient used by the last stress update, 1/s
+  std::vector<Sym3> stress;      // Cauchy stress, Pa (plane strain keeps zz)
+  std::vector<std::int32_t> material;  // index into the run's material list
+  std::vector<std::int32_t> field;     // contact (velocity) field index
+  std::vector<std::uint32_t> slot;     // history slot inside the particle's material
+
+  std::size_t size() const { return x.size(); }
+
+  void reserve(std::size_t n) {
+    x.reserve(n); v.reserve(n); mass.reserve(n); volume0.reserve(n); volume.reserve(n);
+    F.reserve(n); L.reserve(n); stress.reserve(n); material.reserve(n); field.reserve(n);
+    slot.reserve(n);
+  }
+
+  std::size_t add(const Vec<D>& pos, double vol, double m, int mat, int fld) {
+    x.push_back(pos);
+    v.push_back(Vec<D>::Zero());
+    mass.push_back(m);
+    volume0.push_back(vol);
+    volume.push_back(vol);
+    F.push_back(Mat<D>::Identity());
+    L.push_back(Mat<D>::Zero());
+    stress.push_back(Sym3{});
+    material.push_back(mat);
+    field.push_back(fld);
+    slot.push_back(0);
+    return x.size() - 1;
+  }
+};
+
+}  // namespace pbx
