@@ -1,7 +1,66 @@
+// `pbxmpm run DECK` and `pbxmpm check DECK`.
+#include <cstdio>
+
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "app/commands.hpp"
+#include "core/error.hpp"
+#include "io/deck.hpp"
+#include "solver/runner.hpp"
 
 namespace pbx::app {
-void register_run(CLI::App&) {}
+
+namespace {
+
+struct RunArgs {
+  std::string deck, out = "out/run";
+  int threads = 0;
+  bool quiet = false;
+};
+
+Scene<2> load(const std::string& file, Deck& deck) {
+  deck = Deck::from_file(file);
+  Scene<2> scene = build_scene<2>(deck);
+  deck.check_unused();
+  return scene;
+}
+
+}  // namespace
+
+void register_run(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  auto* run = app.add_subcommand("run", "Run the simulation a deck describes");
+  run->add_option("deck", args->deck, "TOML deck")->required()->check(CLI::ExistingFile);
+  run->add_option("--out,-o", args->out, "output directory (history.csv, run.json, snapshots/)");
+  run->add_option("--threads,-t", args->threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_flag("--quiet,-q", args->quiet, "no progress display");
+  run->callback([args] {
+    Deck deck = Deck::from_string("", "");
+    Scene<2> scene = load(args->deck, deck);
+    RunOptions opt;
+    opt.out_dir = args->out;
+    opt.threads = args->threads;
+    opt.progress = !args->quiet;
+    opt.deck_json = deck.to_json();
+    Runner<2> runner(scene, opt);
+    std::fprintf(stderr, "pbxmpm: %s: %zu particles, %ld x %ld nodes, %d fields, end time %.4g s -> %s\n",
+                 args->deck.c_str(), scene.particles.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.fields,
+                 scene.control.end_time, args->out.c_str());
+    runner.run();
+  });
+
+  auto check_file = std::make_shared<std::string>();
+  auto* check = app.add_subcommand("check", "Validate a deck without running it");
+  check->add_option("deck", *check_file, "TOML deck")->required()->check(CLI::ExistingFile);
+  check->callback([check_file] {
+    Deck deck = Deck::from_string("", "");
+    Scene<2> scene = load(*check_file, deck);
+    std::printf("%s: valid. %zu particles in %zu materials, %d deformable fields, %zu rigid bodies, "
+                "grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n",
+                check_file->c_str(), scene.particles.size(), scene.materials.size(), scene.deformable_fields,
+                scene.bodies.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.h, scene.control.end_time);
+  });
+}
+
 }  // namespace pbx::app

@@ -1,0 +1,85 @@
+#include "contact/rigid_contact.hpp"
+
+#include <cmath>
+
+#include "core/parallel.hpp"
+
+namespace pbx {
+
+namespace {
+template <int D>
+struct BodySums {
+  std::vector<Vec<D>> impulse;
+  std::vector<double> work, friction;
+  explicit BodySums(std::size_t nb = 0)
+      : impulse(nb, Vec<D>::Zero()), work(nb, 0.0), friction(nb, 0.0) {}
+  BodySums& operator+=(const BodySums& o) {
+    for (std::size_t b = 0; b < impulse.size(); ++b) {
+      impulse[b] += o.impulse[b];
+      work[b] += o.work[b];
+      friction[b] += o.friction[b];
+    }
+    return *this;
+  }
+};
+}  // namespace
+
+template <int D>
+void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t,
+                   double mass_eps, RigidContactResult<D>& out) {
+  const long nn = grid.nodes();
+  const std::size_t nb = bodies.size();
+  std::vector<Vec<D>> vb(nb);
+  std::vector<double> face(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    vb[b] = bodies[b].velocity_at(t);
+    face[b] = bodies[b].face_at(t) + 1e-9 * grid.h;
+  }
+
+  BodySums<D> sums = ordered_reduce(nn, BodySums<D>(nb), [&](long begin, long end) {
+    BodySums<D> s(nb);
+    for (long i = begin; i < end; ++i) {
+      for (std::size_t b = 0; b < nb; ++b) {
+        if (grid.mass[grid.at(bodies[b].field, i)] <= 0.0) continue;
+        const Vec<D>& n = bodies[b].normal;
+        if (grid.position(i).dot(n) > face[b]) continue;  // node in front of the face
+        for (int f = 0; f < deformable; ++f) {
+          const long k = grid.at(f, i);
+          const double m = grid.mass[k];
+          if (m <= mass_eps) continue;
+          const Vec<D> vrel = grid.mom[k] / m - vb[b];
+          Vec<D> dp;
+          double fw = 0;
+          if (bodies[b].contact == RigidContact::stick) {
+            dp = -m * vrel;
+          } else {
+            const double vn = vrel.dot(n);
+            if (vn >= 0.0) continue;  // separating or sliding along: free
+            const Vec<D> vt = vrel - vn * n;
+            const double vt_norm = vt.norm();
+            dp = -m * vn * n;
+            if (bodies[b].friction > 0 && vt_norm > 0) {
+              const double cap = bodies[b].friction * (-vn);
+              const double scale = std::min(1.0, cap / vt_norm);
+              dp -= m * scale * vt;
+              if (scale < 1.0) fw = m * cap * (vt_norm - cap);  // energy dissipated by sliding
+            }
+          }
+          grid.mom[k] += dp;
+          s.impulse[b] += dp;
+          s.work[b] += dp.dot(vb[b]);
+          s.friction[b] += fw;
+        }
+      }
+    }
+    return s;
+  }, 1024);
+  out.impulse = std::move(sums.impulse);
+  out.work = std::move(sums.work);
+  out.friction_work = std::move(sums.friction);
+}
+
+template void rigid_contact<2>(Grid<2>&, std::vector<RigidBody<2>>&, int, double, double, RigidContactResult<2>&);
+template void rigid_contact<3>(Grid<3>&, std::vector<RigidBody<3>>&, int, double, double, RigidContactResult<3>&);
+
+}  // namespace pbx

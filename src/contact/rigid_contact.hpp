@@ -1,0 +1,31 @@
+#pragma once
+// Contact between deformable fields and rigid bodies at grid nodes (the rigid body is the
+// infinite-mass limit of the multi-field momentum law): at a node where body b is present and
+// deformable field a has mass, with n the body's outward normal and v_rel = v_a - v_b,
+//   approaching (v_rel . n < 0):  normal impulse  dp_n = -m_a (v_rel . n) n   (stops penetration)
+//                                 tangential     dp_t = -m_a v_t min(1, mu |v_rel . n| / |v_t|)
+// (Coulomb: stick while |v_t| <= mu |v_n|, else slide with tangential impulse mu x normal impulse).
+// Only nodes at or behind the body's face (x_i . n <= face) take part.
+// A `stick` body always imposes v_a = v_b. Impulses are added to the body's record so that the
+// reaction force is exactly the momentum exchanged.
+#include <vector>
+
+#include "bodies/rigid_body.hpp"
+#include "grid/grid.hpp"
+
+namespace pbx {
+
+template <int D>
+struct RigidContactResult {
+  std::vector<Vec<D>> impulse;  // per body, given to the specimen
+  std::vector<double> work;     // per body, work done on the specimen (impulse . v_body)
+  std::vector<double> friction_work;
+};
+
+// Applies the rigid contacts on the momenta `grid.mom` of fields [0, deformable). Returns the
+// impulses per body (to be recorded when the pass changes particle momentum).
+template <int D>
+void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t,
+                   double mass_eps, RigidContactResult<D>& out);
+
+}  // namespace pbx

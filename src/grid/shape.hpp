@@ -1,0 +1,108 @@
+#pragma once
+// Shape functions S_ip and gradients G_ip = dS_ip/dx_p, as tensor products of 1-D kernels.
+// Every kernel touches at most 3 nodes per axis, so one Stencil type serves all of them.
+// Formulas (h = cell size, xi = (x_p - x_i)/h, a = l_p/h the particle half-width in cells):
+//  linear:   S = 1 - |xi|
+//  uGIMP:    |xi| < a: 1 - (xi^2 + a^2)/(2a);  a <= |xi| < 1-a: 1 - |xi|;
+//            1-a <= |xi| < 1+a: (1 + a - |xi|)^2/(4a)   (Bardenhagen & Kober 2004)
+//  bspline2: |xi| <= 1/2: 3/4 - xi^2;  1/2 <= |xi| <= 3/2: (3/2 - |xi|)^2/2  (Steffen et al. 2008)
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "core/tensor.hpp"
+
+namespace pbx {
+
+enum class Kernel { linear, ugimp, bspline2 };
+
+Kernel kernel_from_name(const std::string& name);  // throws InputError
+std::string kernel_name(Kernel k);
+
+template <int D>
+struct Stencil {
+  std::array<int, D> base;                     // lowest node index per axis
+  std::array<std::array<double, 3>, D> w;      // weights of nodes base..base+2
+  std::array<std::array<double, 3>, D> g;      // d w / d x_p (1/m)
+};
+
+namespace detail {
+
+inline void ugimp_1d(double xi, double a, double inv_h, double& w, double& g) {
+  const double r = std::abs(xi), sgn = xi < 0 ? -1.0 : 1.0;
+  if (r < a) {
+    w = 1.0 - (xi * xi + a * a) / (2.0 * a);
+    g = -xi / a * inv_h;
+  } else if (r < 1.0 - a) {
+    w = 1.0 - r;
+    g = -sgn * inv_h;
+  } else if (r < 1.0 + a) {
+    const double q = 1.0 + a - r;
+    w = q * q / (4.0 * a);
+    g = -sgn * q / (2.0 * a) * inv_h;
+  } else {
+    w = 0.0;
+    g = 0.0;
+  }
+}
+
+}  // namespace detail
+
+// s: particle coordinate in cell units relative to the grid origin; a: half-width in cells.
+template <Kernel K>
+inline void kernel_1d(double s, double a, double inv_h, int& base, std::array<double, 3>& w,
+                      std::array<double, 3>& g) {
+  if constexpr (K == Kernel::linear) {
+    const double fl = std::floor(s);
+    base = static_cast<int>(fl);
+    const double f = s - fl;
+    w = {1.0 - f, f, 0.0};
+    g = {-inv_h, inv_h, 0.0};
+  } else if constexpr (K == Kernel::ugimp) {
+    const double fl = std::floor(s);
+    base = static_cast<int>(fl) - (s - fl < 0.5 ? 1 : 0);
+    for (int k = 0; k < 3; ++k) detail::ugimp_1d(s - (base + k), a, inv_h, w[k], g[k]);
+  } else {
+    const double fl = std::floor(s + 0.5);
+    base = static_cast<int>(fl) - 1;
+    const double u = s - fl;  // in [-1/2, 1/2): distance to the middle node
+    // nodes base (xi = u + 1), base+1 (xi = u), base+2 (xi = u - 1)
+    const double q0 = 0.5 - u, q2 = 0.5 + u;
+    w = {0.5 * q0 * q0, 0.75 - u * u, 0.5 * q2 * q2};
+    g = {-q0 * inv_h, -2.0 * u * inv_h, q2 * inv_h};
+  }
+}
+
+template <int D, Kernel K>
+inline Stencil<D> make_stencil(const Vec<D>& x, const Vec<D>& origin, double inv_h, double a) {
+  Stencil<D> st;
+  for (int d = 0; d < D; ++d) kernel_1d<K>((x[d] - origin[d]) * inv_h, a, inv_h, st.base[d], st.w[d], st.g[d]);
+  return st;
+}
+
+// Calls f(node_offset_index, S, gradS) for the 3^D nodes of a stencil. `stride` gives the node
+// index step per axis; nodes with zero weight are visited too (branch-free inner loop).
+template <int D, class Fn>
+inline void for_each_node(const Stencil<D>& st, const std::array<long, D>& stride, Fn&& f) {
+  if constexpr (D == 2) {
+    const long b0 = st.base[0] * stride[0] + st.base[1] * stride[1];
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const double S = st.w[0][i] * st.w[1][j];
+        Vec<2> G(st.g[0][i] * st.w[1][j], st.w[0][i] * st.g[1][j]);
+        f(b0 + i + j * stride[1], S, G);
+      }
+  } else {
+    const long b0 = st.base[0] * stride[0] + st.base[1] * stride[1] + st.base[2] * stride[2];
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+          const double S = st.w[0][i] * st.w[1][j] * st.w[2][k];
+          Vec<3> G(st.g[0][i] * st.w[1][j] * st.w[2][k], st.w[0][i] * st.g[1][j] * st.w[2][k],
+                   st.w[0][i] * st.w[1][j] * st.g[2][k]);
+          f(b0 + i + j * stride[1] + k * stride[2], S, G);
+        }
+  }
+}
+
+}  // namespace pbx

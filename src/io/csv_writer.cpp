@@ -1,0 +1,42 @@
+#include "io/csv_writer.hpp"
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace pbx {
+
+CsvWriter::CsvWriter(const std::string& file, const std::vector<std::string>& columns, bool append)
+    : ncol_(columns.size()) {
+  f_ = std::fopen(file.c_str(), append ? "a" : "w");
+  if (!f_) throw InputError(fmt::format("cannot write '{}'", file));
+  if (!append) {
+    std::string header;
+    for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i];
+    std::fprintf(f_, "%s\n", header.c_str());
+    std::fflush(f_);
+  }
+}
+
+CsvWriter& CsvWriter::operator=(CsvWriter&& o) noexcept {
+  if (this != &o) {
+    if (f_) std::fclose(f_);
+    f_ = o.f_;
+    ncol_ = o.ncol_;
+    o.f_ = nullptr;
+  }
+  return *this;
+}
+
+CsvWriter::~CsvWriter() {
+  if (f_) std::fclose(f_);
+}
+
+void CsvWriter::row(const std::vector<double>& values) {
+  std::string line;
+  for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format("{}{:.10g}", i ? "," : "", values[i]);
+  std::fprintf(f_, "%s\n", line.c_str());
+  std::fflush(f_);
+}
+
+}  // namespace pbx

@@ -1,0 +1,89 @@
+#include "io/snapshot.hpp"
+
+#include <filesystem>
+#include <cstring>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include "core/error.hpp"
+
+namespace pbx {
+
+namespace {
+void write_dataset(hid_t file, const char* name, hid_t type, const void* data, std::size_t rows, std::size_t cols,
+                   const char* units) {
+  hsize_t dims[2] = {rows, cols};
+  hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
+  hid_t ds = H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (rows > 0) H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  hid_t aspace = H5Screate(H5S_SCALAR);
+  hid_t atype = H5Tcopy(H5T_C_S1);
+  H5Tset_size(atype, std::strlen(units) + 1);
+  hid_t attr = H5Acreate2(ds, "units", atype, aspace, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(attr, atype, units);
+  H5Aclose(attr);
+  H5Tclose(atype);
+  H5Sclose(aspace);
+  H5Dclose(ds);
+  H5Sclose(space);
+}
+}  // namespace
+
+void SnapshotWriter::write(const SnapshotData& s) {
+  std::filesystem::create_directories(dir_);
+  const std::string name = fmt::format("snap_{:04d}.h5", entries_.size());
+  const std::string path = (std::filesystem::path(dir_) / name).string();
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw InputError(fmt::format("cannot write snapshot '{}'", path));
+  const std::size_t n = s.count;
+  write_dataset(f, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
+  write_dataset(f, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
+  write_dataset(f, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, yy, zz, xy, yz, zx), tension positive");
+  write_dataset(f, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
+  write_dataset(f, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
+  write_dataset(f, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");
+  write_dataset(f, "volume", H5T_NATIVE_DOUBLE, s.volume.data(), n, 1, s.dim == 2 ? "m^2 per m of depth" : "m^3");
+  write_dataset(f, "material", H5T_NATIVE_INT, s.material.data(), n, 1, "index into run.json materials");
+  write_dataset(f, "field", H5T_NATIVE_INT, s.field.data(), n, 1, "contact field index");
+  hid_t aspace = H5Screate(H5S_SCALAR);
+  hid_t attr = H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(attr, H5T_NATIVE_DOUBLE, &s.time);
+  H5Aclose(attr);
+  H5Sclose(aspace);
+  H5Fclose(f);
+  entries_.push_back({name, s.time, n});
+  write_xdmf();
+}
+
+void SnapshotWriter::write_xdmf() const {
+  std::ofstream x(std::filesystem::path(dir_) / "snapshots.xmf");
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+       "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& e : entries_) {
+    const auto n = e.count;
+    x << fmt::format("<Grid Name=\"t\" GridType=\"Uniform\"><Time Value=\"{:.10g}\"/>\n", e.time);
+    x << fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
+    x << fmt::format("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+                     "Format=\"HDF\">{}:/position</DataItem></Geometry>\n", n, e.file);
+    auto attr = [&](const char* name, const char* type, int cols, const char* num, int prec) {
+      const std::string dims = cols == 1 ? fmt::format("{}", n) : fmt::format("{} {}", n, cols);
+      x << fmt::format("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\"><DataItem Dimensions=\"{}\" "
+                       "NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}</DataItem></Attribute>\n",
+                       name, type, dims, num, prec, e.file, name);
+    };
+    attr("velocity", "Vector", 3, "Float", 8);
+    attr("stress", "Tensor6", 6, "Float", 8);
+    attr("pressure", "Scalar", 1, "Float", 8);
+    attr("von_mises", "Scalar", 1, "Float", 8);
+    attr("plastic_strain", "Scalar", 1, "Float", 8);
+    attr("volume", "Scalar", 1, "Float", 8);
+    attr("material", "Scalar", 1, "Int", 4);
+    attr("field", "Scalar", 1, "Int", 4);
+    x << "</Grid>\n";
+  }
+  x << "</Grid>\n</Domain>\n</Xdmf>\n";
+}
+
+}  // namespace pbx

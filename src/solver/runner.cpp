@@ -1,0 +1,306 @@
+#include "solver/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <omp.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+
+namespace pbx {
+
+namespace {
+double now_s() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+double peak_memory_mb() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) / 1024.0;
+}
+std::string hms(double s) {
+  if (!(s >= 0) || s > 1e7) return "--:--:--";
+  const long t = std::lround(s);
+  return fmt::format("{:02d}:{:02d}:{:02d}", t / 3600, (t / 60) % 60, t % 60);
+}
+}  // namespace
+
+template <int D>
+Runner<D>::Runner(Scene<D>& scene, RunOptions opt) : sc_(scene), opt_(std::move(opt)), solver_(scene) {
+  if (opt_.threads > 0) omp_set_num_threads(opt_.threads);
+  tty_ = isatty(STDERR_FILENO);
+  const char* axes = "xyz";
+  columns_ = {"step", "t_s", "dt_s", "strain", "punch_velocity_m_s", "punch_force_N_per_m", "punch_stress_Pa",
+              "wall_left_force_N_per_m", "wall_right_force_N_per_m", "wall_bottom_force_N_per_m",
+              "wall_stress_Pa", "sxx_Pa", "syy_Pa", "szz_Pa", "sxy_Pa", "kinetic_J_per_m", "internal_J_per_m",
+              "dissipated_J_per_m", "punch_work_J_per_m", "ke_ie", "mass_kg_per_m"};
+  for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("momentum_{}_N_s_per_m", axes[d]));
+  for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("com_v{}_m_s", axes[d]));
+  for (auto& b : sc_.bodies)
+    for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("{}_f{}_N_per_m", b.name, axes[d]));
+  if (!opt_.out_dir.empty()) {
+    std::filesystem::create_directories(opt_.out_dir);
+    history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
+    snapshots_ = SnapshotWriter((std::filesystem::path(opt_.out_dir) / "snapshots").string());
+  }
+}
+
+template <int D>
+Measurement Runner<D>::measure() {
+  const auto& P = sc_.particles;
+  Measurement m;
+  const double t = solver_.time();
+  m.t = t;
+  m.dt = solver_.dt();
+  const double span = t - t_last_row_;
+  m.body_force.resize(sc_.bodies.size());
+  for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
+    const Vec<D> f = span > 0 ? Vec<D>(sc_.bodies[b].impulse / span) : Vec<D>::Zero();
+    m.body_force[b].assign(f.data(), f.data() + D);
+  }
+  struct Sums {
+    double vol = 0, mass = 0, ke = 0;
+    Sym3 sv;
+    Vec<D> p = Vec<D>::Zero();
+    Sums& operator+=(const Sums& o) {
+      vol += o.vol; mass += o.mass; ke += o.ke; sv += o.sv; p += o.p;
+      return *this;
+    }
+  };
+  const double fs = sc_.settings.mass_scaling;
+  Sums s = ordered_reduce(static_cast<long>(P.size()), Sums{}, [&](long b, long e) {
+    Sums r;
+    for (long p = b; p < e; ++p) {
+      r.vol += P.volume[p];
+      r.mass += P.mass[p];
+      r.ke += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
+      r.sv += P.volume[p] * P.stress[p];
+      r.p += fs * P.mass[p] * P.v[p];
+    }
+    return r;
+  });
+  m.mass = s.mass;
+  m.momentum.assign(s.p.data(), s.p.data() + D);
+  const Vec<D> vcm = s.p / (fs * s.mass);
+  m.com_velocity.assign(vcm.data(), vcm.data() + D);
+  double box = s.vol;
+  if (sc_.die) {
+    const Die& die = *sc_.die;
+    const auto& punch = sc_.bodies[die.punch];
+    const double d = -punch.displacement_at(t)[1];
+    m.strain = d / die.height;
+    m.punch_velocity = -punch.velocity_at(t)[1];
+    m.punch_force = -m.body_force[die.punch][1];
+    m.punch_stress = m.punch_force / die.width;
+    m.wall_left = m.body_force[die.left][0];
+    m.wall_right = -m.body_force[die.right][0];
+    m.wall_bottom = m.body_force[die.bottom][1];
+    m.wall_stress = 0.5 * (m.wall_left + m.wall_right) / (die.height - d);
+    box = die.width * (die.height - d);
+  }
+  m.mean_stress = (1.0 / box) * s.sv;
+  m.kinetic = s.ke;
+  m.internal = solver_.internal_energy();
+  m.dissipated = solver_.dissipated_energy();
+  for (auto& b : sc_.bodies) punch_work_ += b.work;
+  m.punch_work = punch_work_;
+  m.ke_ie = m.internal > 0 ? m.kinetic / m.internal : 0.0;
+  for (auto& b : sc_.bodies) {
+    b.impulse.setZero();
+    b.work = 0;
+  }
+  t_last_row_ = t;
+  return m;
+}
+
+template <int D>
+std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
+  std::vector<double> v = {0, m.t, m.dt, m.strain, m.punch_velocity, m.punch_force, m.punch_stress,
+                           m.wall_left, m.wall_right, m.wall_bottom, m.wall_stress, m.mean_stress.xx,
+                           m.mean_stress.yy, m.mean_stress.zz, m.mean_stress.xy, m.kinetic, m.internal,
+                           m.dissipated, m.punch_work, m.ke_ie, m.mass};
+  for (double x : m.momentum) v.push_back(x);
+  for (double x : m.com_velocity) v.push_back(x);
+  for (auto& f : m.body_force)
+    for (double x : f) v.push_back(x);
+  return v;
+}
+
+template <int D>
+void Runner<D>::write_snapshot() {
+  if (opt_.out_dir.empty()) return;
+  const auto& P = sc_.particles;
+  SnapshotData s;
+  s.time = solver_.time();
+  s.dim = D;
+  s.count = P.size();
+  s.position.assign(3 * s.count, 0.0);
+  s.velocity.assign(3 * s.count, 0.0);
+  s.stress.resize(6 * s.count);
+  s.pressure.resize(s.count);
+  s.von_mises.resize(s.count);
+  s.plastic_strain.resize(s.count);
+  s.volume = P.volume;
+  s.material.assign(P.material.begin(), P.material.end());
+  s.field.assign(P.field.begin(), P.field.end());
+  for (std::size_t p = 0; p < s.count; ++p) {
+    for (int d = 0; d < D; ++d) {
+      s.position[3 * p + d] = P.x[p][d];
+      s.velocity[3 * p + d] = P.v[p][d];
+    }
+    const Sym3& st = P.stress[p];
+    const double c[6] = {st.xx, st.yy, st.zz, st.xy, st.yz, st.zx};
+    for (int k = 0; k < 6; ++k) s.stress[6 * p + k] = c[k];
+    s.pressure[p] = -st.mean();
+    s.von_mises[p] = st.von_mises();
+    const auto m = static_cast<std::size_t>(P.material[p]);
+    const int hs = sc_.materials[m]->history_size();
+    s.plastic_strain[p] = hs > 0 ? sc_.materials[m]->plastic_strain(sc_.material_state[m].history.data() + P.slot[p] * hs) : 0.0;
+  }
+  snapshots_.write(s);
+}
+
+template <int D>
+void Runner<D>::write_run_json(const std::string& status, const std::string& message) const {
+  if (opt_.out_dir.empty()) return;
+  const auto& P = sc_.particles;
+  const double wall = now_s() - wall_start_;
+  const double steps = static_cast<double>(solver_.step_count());
+  double mass = 0, vol = 0;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    mass += P.mass[p];
+    vol += P.volume0[p];
+  }
+  std::string specimen = "null";
+  if (sc_.die) {
+    const double box = sc_.die->width * sc_.die->height;
+    specimen = fmt::format(R"({{"density_kg_m3": {:.8g}, "porosity": {:.8g}, "tmd_kg_m3": {:.8g}, "width_m": {:.8g}, "height_m": {:.8g}}})",
+                           mass / box, 1.0 - vol / box, mass / vol, sc_.die->width, sc_.die->height);
+  }
+  std::string mats;
+  for (std::size_t m = 0; m < sc_.materials.size(); ++m)
+    mats += fmt::format(R"({}{{"name": "{}", "model": "{}", "density_kg_m3": {:.8g}, "particles": {}}})", m ? ", " : "",
+                        sc_.material_names[m], sc_.materials[m]->model(), sc_.materials[m]->density(),
+                        sc_.material_state[m].index.size());
+  std::string esc;
+  for (char c : message) {
+    if (c == '"' || c == '\\') esc += '\\';
+    if (c == '\n') { esc += "\\n"; continue; }
+    esc += c;
+  }
+  std::ofstream f(std::filesystem::path(opt_.out_dir) / "run.json");
+  f << fmt::format(
+      R"J({{
+  "status": "{}",
+  "message": "{}",
+  "code_version": "{} ({})",
+  "dimension": {},
+  "threads": {},
+  "particles": {},
+  "rigid_particles": {},
+  "grid_nodes": {},
+  "fields": {},
+  "steps": {},
+  "time_s": {:.10g},
+  "wall_time_s": {:.4f},
+  "particle_updates_per_s": {:.6g},
+  "peak_memory_MB": {:.1f},
+  "temperature_K": {},
+  "mass_scaling": {},
+  "ramp_strain": {},
+  "end_strain": {},
+  "specimen": {},
+  "materials": [{}],
+  "units": "SI; 2-D quantities are per metre of depth",
+  "deck": {}
+}}
+)J",
+      status, esc, PBXMPM_VERSION, PBXMPM_GIT, D, omp_get_max_threads(), P.size(),
+      [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
+      sc_.grid.fields, solver_.step_count(), solver_.time(), wall,
+      wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(), sc_.control.temperature,
+      sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen, mats,
+      opt_.deck_json.empty() ? "null" : opt_.deck_json);
+}
+
+template <int D>
+void Runner<D>::report_progress(const Measurement& m, bool final) {
+  if (!opt_.progress) return;
+  const double frac = std::min(1.0, m.t / sc_.control.end_time);
+  const double wall = now_s() - wall_start_;
+  const double rate = wall > 0 ? static_cast<double>(solver_.step_count()) / wall : 0;
+  const double eta = frac > 0 ? wall * (1.0 - frac) / frac : -1;
+  if (tty_) {
+    const int width = 30, fill = static_cast<int>(frac * width);
+    std::fprintf(stderr, "\r[%s%s] %5.1f%%  strain %6.3f%%  punch %8.3f MPa  %7.0f steps/s  ETA %s%s",
+                 std::string(static_cast<std::size_t>(fill), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - fill), ' ').c_str(), 100 * frac, 100 * m.strain,
+                 m.punch_stress / 1e6, rate, hms(eta).c_str(), final ? "\n" : "");
+    std::fflush(stderr);
+  } else if (final || frac - last_progress_ >= 0.1) {
+    last_progress_ = frac;
+    std::fprintf(stderr, "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s\n",
+                 100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str());
+  }
+}
+
+template <int D>
+void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
+  wall_start_ = now_s();
+  const double t_end = sc_.control.end_time;
+  const int rows = sc_.control.history_points;
+  auto emit_row = [&] {
+    Measurement m = measure();
+    if (history_.open()) {
+      auto v = row_values(m, static_cast<int>(sc_.bodies.size()));
+      v[0] = static_cast<double>(solver_.step_count());
+      history_.row(v);
+    }
+    if (on_row) on_row(m);
+    report_progress(m, false);
+    return m;
+  };
+  write_run_json("running", "");
+  emit_row();
+  next_row_ = 1;
+  if (sc_.control.snapshots > 0) write_snapshot();
+  next_snapshot_ = 1;
+  try {
+    while (solver_.time() < t_end * (1 - 1e-12)) {
+      solver_.step();
+      const double t = solver_.time();
+      if (t >= t_end * next_row_ / (rows - 1) || t >= t_end * (1 - 1e-12)) {
+        emit_row();
+        while (t_end * next_row_ / (rows - 1) <= t) ++next_row_;
+      }
+      if (sc_.control.snapshots > 0 && t >= t_end * next_snapshot_ / sc_.control.snapshots) {
+        write_snapshot();
+        while (t_end * next_snapshot_ / sc_.control.snapshots <= t) ++next_snapshot_;
+      }
+    }
+  } catch (const InstabilityError& e) {
+    if (opt_.progress && tty_) std::fprintf(stderr, "\n");
+    try {
+      write_snapshot();
+    } catch (...) {
+    }
+    write_run_json("failed", e.what());
+    throw;
+  }
+  Measurement last;
+  last.t = solver_.time();
+  report_progress(last, true);
+  write_run_json("finished", "");
+}
+
+template class Runner<2>;
+template class Runner<3>;
+
+}  // namespace pbx

@@ -1,0 +1,61 @@
+#pragma once
+// Drives a Solver to the end of a run and writes what a user reads: history.csv (one row per
+// reporting interval, forces averaged over it from the exact contact impulses), snapshots,
+// run.json and a progress display. On an instability it stops, writes a last snapshot and marks
+// run.json "failed" with the message, keeping every row written before.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "io/csv_writer.hpp"
+#include "io/snapshot.hpp"
+#include "solver/solver.hpp"
+
+namespace pbx {
+
+// What one history row reports (die columns are zero when the run has no die).
+struct Measurement {
+  double t = 0, dt = 0, strain = 0, punch_velocity = 0;
+  double punch_force = 0, punch_stress = 0;       // compression positive
+  double wall_left = 0, wall_right = 0, wall_bottom = 0, wall_stress = 0;
+  Sym3 mean_stress;                               // box volume average, tension positive
+  double kinetic = 0, internal = 0, dissipated = 0, punch_work = 0, ke_ie = 0;
+  double mass = 0;
+  std::vector<double> momentum, com_velocity;     // D components
+  std::vector<std::vector<double>> body_force;    // per rigid body: force ON the specimen (D)
+};
+
+struct RunOptions {
+  std::string out_dir;          // empty: write nothing (tests)
+  int threads = 0;              // 0: OpenMP default
+  bool progress = true;
+  std::string deck_json;        // the validated deck (for run.json)
+};
+
+template <int D>
+class Runner {
+ public:
+  Runner(Scene<D>& scene, RunOptions opt);
+  // Runs to the end; calls on_row after each history row (tests observe the run this way).
+  void run(const std::function<void(const Measurement&)>& on_row = {});
+  Solver<D>& solver() { return solver_; }
+  const std::vector<std::string>& columns() const { return columns_; }
+  static std::vector<double> row_values(const Measurement& m, int nbodies);
+  Measurement measure();
+  void write_snapshot();
+
+ private:
+  void write_run_json(const std::string& status, const std::string& message) const;
+  void report_progress(const Measurement& m, bool final);
+  Scene<D>& sc_;
+  RunOptions opt_;
+  Solver<D> solver_;
+  CsvWriter history_;
+  SnapshotWriter snapshots_;
+  std::vector<std::string> columns_;
+  double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1;
+  int next_row_ = 0, next_snapshot_ = 0;
+  bool tty_ = false;
+};
+
+}  // namespace pbx

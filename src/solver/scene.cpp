@@ -1,0 +1,326 @@
+#include "solver/scene.hpp"
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "core/error.hpp"
+#include "io/deck.hpp"
+
+namespace pbx {
+
+namespace {
+
+template <int D>
+Vec<D> read_vec(const DeckTable& t, const std::string& key, const Dimension& d,
+                std::optional<Vec<D>> def = std::nullopt) {
+  if (!t.has(key)) {
+    if (def) return *def;
+    t.fail(key, fmt::format("required key missing (an array of {} quantities)", D));
+  }
+  auto v = t.quantities(key, d);
+  if (static_cast<int>(v.size()) != D) t.fail(key, fmt::format("expected {} components, got {}", D, v.size()));
+  Vec<D> out;
+  for (int i = 0; i < D; ++i) out[i] = v[static_cast<std::size_t>(i)];
+  return out;
+}
+
+// A region of space a geometry entry or rigid body fills.
+template <int D>
+struct Shape {
+  std::function<bool(const Vec<D>&)> contains;
+  Vec<D> lo, hi;  // bounding box
+};
+
+template <int D>
+Shape<D> read_shape(const DeckTable& t) {
+  const std::string kind = t.string("shape", "rectangle");
+  Shape<D> s;
+  if (kind == "rectangle") {
+    s.lo = read_vec<D>(t, "min", dim::length);
+    s.hi = read_vec<D>(t, "max", dim::length);
+    for (int d = 0; d < D; ++d)
+      if (!(s.hi[d] > s.lo[d])) t.fail("max", "must exceed 'min' in every component");
+    const Vec<D> lo = s.lo, hi = s.hi;
+    s.contains = [lo, hi](const Vec<D>& x) {
+      for (int d = 0; d < D; ++d)
+        if (x[d] < lo[d] || x[d] > hi[d]) return false;
+      return true;
+    };
+  } else if (kind == "disk") {
+    const Vec<D> c = read_vec<D>(t, "center", dim::length);
+    const double r = t.positive("radius", dim::length);
+    s.lo = c.array() - r;
+    s.hi = c.array() + r;
+    s.contains = [c, r](const Vec<D>& x) { return (x - c).squaredNorm() <= r * r; };
+  } else {
+    t.fail("shape", fmt::format("unknown shape '{}' (known: rectangle, disk)", kind));
+  }
+  return s;
+}
+
+// Centres of the ppc^D sub-cells of every grid cell whose centre lies in `inside`, row-major over
+// cells (so particle storage is sorted by cell). Calls emit(position).
+template <int D>
+void seed_subcells(const Grid<D>& g, int ppc, const Vec<D>& lo, const Vec<D>& hi,
+                   const std::function<void(const Vec<D>&)>& emit) {
+  std::array<long, D> c0, c1;
+  for (int d = 0; d < D; ++d) {
+    c0[d] = std::max(0L, static_cast<long>(std::floor((lo[d] - g.origin[d]) / g.h)));
+    c1[d] = std::min(g.n[d] - 1, static_cast<long>(std::ceil((hi[d] - g.origin[d]) / g.h)));
+  }
+  for (int d = 0; d < D; ++d)
+    if (c1[d] <= c0[d]) return;
+  const double sub = g.h / ppc;
+  std::array<long, D> c = c0;
+  while (true) {
+    // every sub-cell of cell c
+    std::array<int, D> s{};
+    while (true) {
+      Vec<D> x;
+      for (int d = 0; d < D; ++d) x[d] = g.origin[d] + c[d] * g.h + (s[d] + 0.5) * sub;
+      emit(x);
+      int d = 0;
+      while (d < D && ++s[d] == ppc) {
+        s[d] = 0;
+        ++d;
+      }
+      if (d == D) break;
+    }
+    int d = 0;
+    while (d < D && ++c[d] >= c1[d]) {
+      c[d] = c0[d];
+      ++d;
+    }
+    if (d == D) break;
+  }
+}
+
+}  // namespace
+
+template <int D>
+Scene<D> build_scene(const Deck& deck) {
+  Scene<D> sc;
+  const DeckTable root = deck.root();
+
+  // ---- run control
+  const DeckTable run = root.table("run");
+  sc.description = run.string("title", "");
+  sc.control.temperature = run.positive("temperature", dim::temperature, 293.0);
+  sc.control.history_points = static_cast<int>(run.integer("history_points", 400));
+  if (sc.control.history_points < 2) run.fail("history_points", "must be >= 2");
+  sc.control.snapshots = static_cast<int>(run.integer("snapshots", 10));
+  if (sc.control.snapshots < 0) run.fail("snapshots", "must be >= 0");
+
+  // ---- solver settings
+  if (auto s = root.optional_table("solver")) {
+    const std::string integ = s->string("integrator", "musl");
+    if (integ == "musl") sc.settings.integrator = Integrator::musl;
+    else if (integ == "usl") sc.settings.integrator = Integrator::usl;
+    else if (integ == "usf") sc.settings.integrator = Integrator::usf;
+    else s->fail("integrator", "unknown integrator '" + integ + "' (known: usf, usl, musl)");
+    sc.settings.flip = s->in_range("flip", 0.0, 1.0, 0.99);
+    sc.settings.cfl = s->number("cfl", 0.4);
+    if (!(sc.settings.cfl > 0 && sc.settings.cfl < 1)) s->fail("cfl", "must lie in (0, 1)");
+    sc.settings.mass_scaling = s->number("mass_scaling", 1.0);
+    if (!(sc.settings.mass_scaling >= 1.0)) s->fail("mass_scaling", "must be >= 1");
+    sc.settings.gravity = read_vec<D>(*s, "gravity", dim::acceleration, Vec<D>::Zero());
+  }
+
+  // ---- grid
+  const DeckTable gt = root.table("grid");
+  const double h = gt.positive("cell_size", dim::length);
+  sc.settings.kernel = kernel_from_name(gt.string("shape_function", "ugimp"));
+  sc.settings.ppc = static_cast<int>(gt.integer("particles_per_cell", 2));
+  if (sc.settings.ppc < 1 || sc.settings.ppc > 8) gt.fail("particles_per_cell", "must lie in [1, 8]");
+  sc.grid.h = h;
+
+  std::optional<DeckTable> die_t = root.optional_table("die");
+  Vec<D> gmin, gmax;
+  int wall_cells = 2;
+  if (die_t) {
+    if constexpr (D != 2) die_t->fail("width", "the die is implemented for 2-D plane strain only");
+    Die die;
+    die.width = die_t->positive("width", dim::length);
+    die.height = die_t->positive("height", dim::length);
+    die.punch_velocity = die_t->positive("punch_velocity", dim::velocity);
+    die.ramp_strain = die_t->number("ramp_strain", 0.002);
+    if (!(die.ramp_strain >= 0 && die.ramp_strain < 1)) die_t->fail("ramp_strain", "must lie in [0, 1)");
+    wall_cells = static_cast<int>(die_t->integer("wall_cells", 2));
+    if (wall_cells < 1) die_t->fail("wall_cells", "must be >= 1");
+    for (auto [key, len] : {std::pair{"width", die.width}, std::pair{"height", die.height}}) {
+      const double cells = len / h;
+      if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
+        die_t->fail(key, fmt::format("must be a whole number of cells (grid.cell_size = {} m gives {} cells)", h, cells));
+    }
+    sc.control.end_strain = run.number("end_strain");
+    if (!(sc.control.end_strain > 0 && sc.control.end_strain < 0.5)) run.fail("end_strain", "must lie in (0, 0.5)");
+    const double pad = (wall_cells + 2) * h;
+    gmin = Vec<D>::Constant(-pad);
+    gmax[0] = die.width + pad;
+    gmax[1] = die.height + pad;
+    // the punch moves through end_strain * height
+    const double stroke = sc.control.end_strain * die.height;
+    const double t_ramp = die.punch_velocity > 0 ? 2.0 * die.ramp_strain * die.height / die.punch_velocity : 0;
+    sc.control.end_time = t_ramp / 2 + (stroke - die.ramp_strain * die.height) / die.punch_velocity;
+    if (die.ramp_strain >= sc.control.end_strain) run.fail("end_strain", "must exceed die.ramp_strain");
+    sc.die = die;
+  } else {
+    gmin = read_vec<D>(gt, "min", dim::length);
+    gmax = read_vec<D>(gt, "max", dim::length);
+    sc.control.end_time = run.positive("end_time", dim::time);
+  }
+  sc.grid.origin = gmin;
+  for (int d = 0; d < D; ++d) {
+    if (!(gmax[d] > gmin[d])) gt.fail("max", "must exceed 'min' in every component");
+    sc.grid.n[d] = static_cast<long>(std::ceil((gmax[d] - gmin[d]) / h - 1e-9)) + 1;
+  }
+
+  // ---- materials (ordered by name: the order is the material index)
+  const DeckTable mats = root.table("materials");
+  std::map<std::string, int> mat_index;
+  MaterialContext ctx;
+  ctx.temperature = sc.control.temperature;
+  for (const auto& name : mats.keys()) {
+    ctx.name = name;
+    mat_index[name] = static_cast<int>(sc.materials.size());
+    sc.material_names.push_back(name);
+    sc.materials.push_back(make_material<D>(mats.table(name), ctx));
+  }
+  if (sc.materials.empty()) mats.fail("", "at least one material is required");
+
+  // ---- geometry -> particles (first geometry containing a sub-cell centre wins)
+  std::vector<DeckTable> geoms = root.tables("geometry");
+  if (geoms.empty()) root.fail("geometry", "at least one [[geometry]] entry is required");
+  struct Geo {
+    Shape<D> shape;
+    int material, field;
+    Vec<D> velocity;
+  };
+  std::vector<Geo> gs;
+  std::map<std::string, int> field_index;
+  Vec<D> lo = Vec<D>::Constant(1e300), hi = Vec<D>::Constant(-1e300);
+  for (auto& g : geoms) {
+    Geo geo;
+    geo.shape = read_shape<D>(g);
+    const std::string mname = g.string("material");
+    auto it = mat_index.find(mname);
+    if (it == mat_index.end()) g.fail("material", fmt::format("no material named '{}' in [materials]", mname));
+    geo.material = it->second;
+    const std::string fname = g.string("field", mname);
+    auto [fit, inserted] = field_index.try_emplace(fname, static_cast<int>(field_index.size()));
+    if (inserted) sc.field_names.push_back(fname);
+    geo.field = fit->second;
+    geo.velocity = read_vec<D>(g, "velocity", dim::velocity, Vec<D>::Zero());
+    lo = lo.cwiseMin(geo.shape.lo);
+    hi = hi.cwiseMax(geo.shape.hi);
+    gs.push_back(std::move(geo));
+  }
+  sc.deformable_fields = static_cast<int>(sc.field_names.size());
+  const int ppc = sc.settings.ppc;
+  const double pvol = std::pow(h / ppc, D);
+  sc.grid.stride[0] = 1;
+  for (int d = 1; d < D; ++d) sc.grid.stride[d] = sc.grid.stride[d - 1] * sc.grid.n[d - 1];
+  seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
+    for (auto& g : gs) {
+      if (!g.shape.contains(x)) continue;
+      const std::size_t p = sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
+      sc.particles.v[p] = g.velocity;
+      return;
+    }
+  });
+  if (sc.particles.size() == 0) root.fail("geometry", "the geometry entries produced no particles");
+
+  // ---- rigid bodies: the die, then [[rigid]] entries
+  auto add_body = [&](RigidBody<D> b, const Vec<D>& blo, const Vec<D>& bhi) {
+    b.field = sc.deformable_fields + static_cast<int>(sc.bodies.size());
+    seed_subcells<D>(sc.grid, ppc, blo, bhi, [&](const Vec<D>& x) {
+      bool in = true;
+      for (int d = 0; d < D; ++d) in = in && x[d] > blo[d] && x[d] < bhi[d];
+      if (in) b.x0.push_back(x);
+    });
+    b.x = b.x0;
+    b.face0 = -1e300;
+    for (auto& x : b.x0) b.face0 = std::max(b.face0, x.dot(b.normal) + 0.5 * h / ppc);
+    sc.field_names.push_back(b.name);
+    sc.bodies.push_back(std::move(b));
+    return static_cast<int>(sc.bodies.size()) - 1;
+  };
+  if constexpr (D == 2) {
+    if (sc.die) {
+      Die& die = *sc.die;
+      const double wt = wall_cells * h, W = die.width, H = die.height;
+      const double mu = die_t->non_negative("wall_friction", dim::none, 0.0);
+      auto wall = [&](const char* name, Vec<2> n, Vec<2> blo, Vec<2> bhi) {
+        RigidBody<2> b;
+        b.name = name;
+        b.normal = n;
+        b.friction = mu;
+        return add_body(std::move(b), blo, bhi);
+      };
+      die.left = wall("wall_left", {1, 0}, {-wt, -wt}, {0, H + wt});
+      die.right = wall("wall_right", {-1, 0}, {W, -wt}, {W + wt, H + wt});
+      die.bottom = wall("wall_bottom", {0, 1}, {0, -wt}, {W, 0});
+      RigidBody<2> punch;
+      punch.name = "punch";
+      punch.normal = {0, -1};
+      punch.friction = mu;
+      punch.velocity = {0, -die.punch_velocity};
+      punch.ramp.t_ramp = 2.0 * die.ramp_strain * H / die.punch_velocity;
+      die.punch = add_body(std::move(punch), Vec<2>(0, H), Vec<2>(W, H + wt));
+    }
+  }
+  for (auto& r : root.tables("rigid")) {
+    RigidBody<D> b;
+    b.name = r.string("name");
+    const Shape<D> s = read_shape<D>(r);
+    b.normal = read_vec<D>(r, "normal", dim::none, Vec<D>::Zero());
+    const std::string c = r.string("contact", "unilateral");
+    if (c == "stick") b.contact = RigidContact::stick;
+    else if (c != "unilateral") r.fail("contact", "unknown rigid contact '" + c + "' (known: unilateral, stick)");
+    if (std::abs(b.normal.norm() - 1.0) > 1e-9) r.fail("normal", "must be a unit vector (outward, into the specimen)");
+    b.friction = r.non_negative("friction", dim::none, 0.0);
+    b.velocity = read_vec<D>(r, "velocity", dim::velocity, Vec<D>::Zero());
+    b.ramp.t_ramp = r.non_negative("ramp_time", dim::time, 0.0);
+    add_body(std::move(b), s.lo, s.hi);
+  }
+
+  // ---- every particle must sit where its whole stencil is inside the grid
+  auto check_inside = [&](const Vec<D>& x, const std::string& what) {
+    for (int d = 0; d < D; ++d) {
+      const double s = (x[d] - sc.grid.origin[d]) / h;
+      if (!(s >= 1.0 && s < static_cast<double>(sc.grid.n[d]) - 2.0))
+        throw InputError(fmt::format("{} at ({}) lies outside the grid interior: enlarge [grid] min/max",
+                                     what, fmt::join(std::vector<double>(x.data(), x.data() + D), ", ")));
+    }
+  };
+  for (std::size_t p = 0; p < sc.particles.size(); ++p)
+    check_inside(sc.particles.x[p], fmt::format("particle {} (material '{}')", p, sc.material_names[sc.particles.material[p]]));
+  for (auto& b : sc.bodies)
+    for (auto& x : b.x0) check_inside(x, "a particle of rigid body '" + b.name + "'");
+
+  // ---- material batches and history
+  sc.material_state.resize(sc.materials.size());
+  for (std::size_t p = 0; p < sc.particles.size(); ++p) {
+    auto& st = sc.material_state[static_cast<std::size_t>(sc.particles.material[p])];
+    sc.particles.slot[p] = static_cast<std::uint32_t>(st.index.size());
+    st.index.push_back(static_cast<std::uint32_t>(p));
+  }
+  for (std::size_t m = 0; m < sc.materials.size(); ++m) {
+    const int hs = sc.materials[m]->history_size();
+    auto& st = sc.material_state[m];
+    st.history.assign(st.index.size() * static_cast<std::size_t>(hs), 0.0);
+    for (std::size_t k = 0; k < st.index.size(); ++k) sc.materials[m]->init_history(st.history.data() + k * hs);
+  }
+
+  sc.grid.allocate(sc.deformable_fields + static_cast<int>(sc.bodies.size()));
+  return sc;
+}
+
+template Scene<2> build_scene<2>(const Deck&);
+template Scene<3> build_scene<3>(const Deck&);
+
+}  // namespace pbx

@@ -1,0 +1,75 @@
+#pragma once
+// A Scene is everything a run needs, built from a validated deck: grid, particles, materials with
+// their batches and history, rigid bodies (die walls and punch), solver settings, run control.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bodies/rigid_body.hpp"
+#include "grid/grid.hpp"
+#include "grid/shape.hpp"
+#include "materials/material.hpp"
+#include "particles/particles.hpp"
+
+namespace pbx {
+
+class Deck;
+
+enum class Integrator { usf, usl, musl };
+
+template <int D>
+struct SolverSettings {
+  Kernel kernel = Kernel::ugimp;
+  Integrator integrator = Integrator::musl;
+  double flip = 0.99;          // FLIP fraction of the particle velocity update (1 = pure FLIP)
+  double cfl = 0.4;            // dt = cfl h / max(c_L/sqrt(f) + |v|)
+  double mass_scaling = 1.0;   // f: inertia x f, clock physical
+  int ppc = 2;                 // particles per cell per axis
+  Vec<D> gravity = Vec<D>::Zero();
+};
+
+// One material's batch: the particles that use it (storage order) and their history.
+struct MaterialState {
+  std::vector<std::uint32_t> index;
+  std::vector<double> history;
+};
+
+// The die of the paper (Fig. 1a): specimen in [0, width] x [0, height]; walls and punch are
+// rigid bodies. Indices point into Scene::bodies.
+struct Die {
+  double width = 0, height = 0;  // m (initial specimen box)
+  double punch_velocity = 0;     // m/s, magnitude (the punch moves in -y)
+  double ramp_strain = 0;        // strain over which the punch speed ramps up smoothly
+  int left = -1, right = -1, bottom = -1, punch = -1;
+};
+
+struct RunControl {
+  double temperature = 293.0;   // K
+  double end_time = 0;          // s
+  double end_strain = 0;        // die runs only
+  int history_points = 400;
+  int snapshots = 10;
+};
+
+template <int D>
+struct Scene {
+  SolverSettings<D> settings;
+  RunControl control;
+  Grid<D> grid;
+  Particles<D> particles;
+  std::vector<std::string> material_names;
+  std::vector<std::unique_ptr<Material<D>>> materials;
+  std::vector<MaterialState> material_state;
+  std::vector<std::string> field_names;  // deformable fields, then one per rigid body
+  int deformable_fields = 0;
+  std::vector<RigidBody<D>> bodies;
+  std::optional<Die> die;
+  std::string description;
+};
+
+// Builds a scene from a deck; every key is validated (unknown keys are errors).
+template <int D>
+Scene<D> build_scene(const Deck& deck);
+
+}  // namespace pbx

@@ -1,0 +1,495 @@
+#include "solver/solver.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "contact/field_contact.hpp"
+#include "contact/rigid_contact.hpp"
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+
+namespace pbx {
+
+namespace {
+
+// In-plane (D x D) block of a stored 3x3 Cauchy stress.
+template <int D>
+inline Mat<D> in_plane(const Sym3& s) {
+  if constexpr (D == 2) {
+    Mat<2> m;
+    m << s.xx, s.xy, s.xy, s.yy;
+    return m;
+  } else {
+    return s.mat();
+  }
+}
+
+// Calls f with the run's kernel as a compile-time constant: one switch per stage, not per particle.
+template <class F>
+void with_kernel(Kernel k, F&& f) {
+  switch (k) {
+    case Kernel::linear: f(std::integral_constant<Kernel, Kernel::linear>{}); break;
+    case Kernel::ugimp: f(std::integral_constant<Kernel, Kernel::ugimp>{}); break;
+    case Kernel::bspline2: f(std::integral_constant<Kernel, Kernel::bspline2>{}); break;
+  }
+}
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+}  // namespace
+
+template <int D>
+Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
+  const auto& P = sc_.particles;
+  bins_.setup(sc_.grid.n[0] - 1);
+  const double inv_h = 1.0 / sc_.grid.h;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const long cx = static_cast<long>(std::floor((P.x[p][0] - sc_.grid.origin[0]) * inv_h));
+    bins_.members[static_cast<std::size_t>(bins_.strip_of_cell(cx))].push_back(static_cast<std::uint32_t>(p));
+  }
+  double msum = 0;
+  for (double m : P.mass) msum += m;
+  mass_eps_ = 1e-10 * sc_.settings.mass_scaling * msum / static_cast<double>(std::max<std::size_t>(1, P.size()));
+  half_width_ = 0.5 / sc_.settings.ppc;
+  for (auto& m : sc_.materials) cmax_ = std::max(cmax_, m->initial_wave_speed());
+  for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
+  static_presence_.resize(sc_.bodies.size());
+}
+
+template <int D>
+void Solver<D>::restore(double t, long steps, double internal, double dissipated) {
+  t_ = t;
+  steps_ = steps;
+  internal_ = internal;
+  dissipated_ = dissipated;
+  for (auto& b : sc_.bodies) b.move_to(t_);
+}
+
+template <int D>
+double Solver<D>::stable_time_step() const {
+  const double c = cmax_ / std::sqrt(sc_.settings.mass_scaling) + vmax_;
+  return sc_.settings.cfl * sc_.grid.h / c;
+}
+
+// ------------------------------------------------------------------------------------- the step
+template <int D>
+void Solver<D>::step() {
+  dt_ = stable_time_step();
+  reset_grid();
+  rigid_p2g();
+  switch (sc_.settings.integrator) {
+    case Integrator::usf:
+      p2g(false);
+      contact(true);
+      velocity_gradient();
+      update_stress();
+      p2g_forces();
+      grid_update();
+      contact(true);
+      finalize_grid_velocities();
+      g2p();
+      break;
+    case Integrator::usl:
+      p2g(true);
+      contact(true);
+      grid_update();
+      contact(true);
+      finalize_grid_velocities();
+      g2p();  // also takes L from the updated nodal velocities
+      update_stress();
+      break;
+    case Integrator::musl:
+      p2g(true);
+      contact(true);
+      grid_update();
+      contact(true);
+      finalize_grid_velocities();
+      g2p();  // also maps the updated particle momenta back to the grid
+      contact(false);
+      remap_velocity_gradient();
+      update_stress();
+      break;
+  }
+  t_ += dt_;
+  ++steps_;
+  advance_bodies();
+}
+
+// ------------------------------------------------------------------------------------- stages
+template <int D>
+void Solver<D>::reset_grid() {
+  auto& g = sc_.grid;
+  std::fill(g.mass.begin(), g.mass.end(), 0.0);
+  std::fill(g.mom.begin(), g.mom.end(), Vec<D>::Zero());
+  std::fill(g.force.begin(), g.force.end(), Vec<D>::Zero());
+}
+
+template <int D>
+template <Kernel K>
+void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
+  auto& g = sc_.grid;
+  const auto& P = sc_.particles;
+  const double inv_h = 1.0 / g.h, fs = sc_.settings.mass_scaling, a = half_width_;
+  const long nn = g.nodes();
+  const Vec<D> grav = sc_.settings.gravity;
+  const bool gravity = grav.squaredNorm() > 0;
+  for (int phase = 0; phase < 2; ++phase) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long s = phase; s < bins_.strips; s += 2) {
+      for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+        const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+        const long off = P.field[p] * nn;
+        const double m = P.mass[p] * fs;
+        const Vec<D> mv = m * P.v[p];
+        const Mat<D> sv = -P.volume[p] * in_plane<D>(P.stress[p]);
+        const Vec<D> fext = P.mass[p] * grav;  // body force acts on the physical mass
+        double* gm = g.mass.data() + off;
+        Vec<D>* gp = g.mom.data() + off;
+        Vec<D>* gf = g.force.data() + off;
+        for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+          if (mass_momentum) {
+            gm[i] += S * m;
+            gp[i] += S * mv;
+          }
+          if (forces) {
+            gf[i] += sv * G;
+            if (gravity) gf[i] += S * fext;
+          }
+        });
+      }
+    }
+  }
+  if (mass_momentum) {
+    const long n = static_cast<long>(sc_.deformable_fields) * nn;
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) g.mom0[k] = g.mom[k];
+  }
+}
+
+template <int D>
+void Solver<D>::p2g(bool with_forces) {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template p2g_impl<decltype(K)::value>(true, with_forces); });
+}
+
+template <int D>
+void Solver<D>::p2g_forces() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template p2g_impl<decltype(K)::value>(false, true); });
+}
+
+template <int D>
+template <Kernel K>
+void Solver<D>::rigid_p2g_impl() {
+  auto& g = sc_.grid;
+  const double inv_h = 1.0 / g.h, a = half_width_;
+  const long nn = g.nodes();
+  for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
+    auto& body = sc_.bodies[b];
+    double* gm = g.mass.data() + body.field * nn;
+    auto& cache = static_presence_[b];
+    if (!body.moving() && !cache.empty()) {
+      for (auto& [i, S] : cache) gm[i] += S;
+      continue;
+    }
+    for (const auto& x : body.x) {
+      const Stencil<D> st = make_stencil<D, K>(x, g.origin, inv_h, a);
+      for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { gm[i] += S; });
+    }
+    if (!body.moving())
+      for (long i = 0; i < nn; ++i)
+        if (gm[i] > 0) cache.emplace_back(i, gm[i]);
+  }
+}
+
+template <int D>
+void Solver<D>::rigid_p2g() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template rigid_p2g_impl<decltype(K)::value>(); });
+}
+
+template <int D>
+void Solver<D>::contact(bool record) {
+  if (!sc_.bodies.empty()) {
+    RigidContactResult<D> r;
+    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + (record ? dt_ : 0.0), mass_eps_, r);
+    if (record) {
+      for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
+        sc_.bodies[b].impulse += r.impulse[b];
+        sc_.bodies[b].work += r.work[b];
+        dissipated_ += r.friction_work[b];
+      }
+    }
+  }
+  weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
+}
+
+template <int D>
+void Solver<D>::grid_update() {
+  auto& g = sc_.grid;
+  const long n = static_cast<long>(sc_.deformable_fields) * g.nodes();
+  const double dt = dt_;
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < n; ++k)
+    if (g.mass[k] > mass_eps_) g.mom[k] += dt * g.force[k];
+}
+
+template <int D>
+void Solver<D>::finalize_grid_velocities() {
+  auto& g = sc_.grid;
+  const long n = static_cast<long>(sc_.deformable_fields) * g.nodes();
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < n; ++k) {
+    if (g.mass[k] > mass_eps_) {
+      const double inv_m = 1.0 / g.mass[k];
+      g.vel[k] = g.mom[k] * inv_m;
+      g.dvel[k] = (g.mom[k] - g.mom0[k]) * inv_m;
+    } else {
+      g.vel[k].setZero();
+      g.dvel[k].setZero();
+    }
+  }
+}
+
+// G2P: particle velocity by the FLIP/PIC blend, and per integrator:
+//   USF: position update;  USL: position update and L from the updated nodal velocities;
+//   MUSL: scatter of the updated particle momentum (positions move after the remap).
+template <int D>
+template <Kernel K>
+void Solver<D>::g2p_impl() {
+  auto& g = sc_.grid;
+  auto& P = sc_.particles;
+  const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_, alpha = sc_.settings.flip;
+  const double fs = sc_.settings.mass_scaling;
+  const long nn = g.nodes();
+  const Integrator integ = sc_.settings.integrator;
+  const bool musl = integ == Integrator::musl;
+  if (musl) {
+    const long n = static_cast<long>(sc_.deformable_fields) * nn;
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) g.mom[k].setZero();
+  }
+  double vmax = 0;
+  std::uint32_t bad = kNone;
+  for (int phase = 0; phase < 2; ++phase) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax) reduction(min : bad)
+    for (long s = phase; s < bins_.strips; s += 2) {
+      for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+        const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+        const long off = P.field[p] * nn;
+        const Vec<D>* gv = g.vel.data() + off;
+        const Vec<D>* gdv = g.dvel.data() + off;
+        Vec<D> vpic = Vec<D>::Zero(), dv = Vec<D>::Zero();
+        Mat<D> L = Mat<D>::Zero();
+        for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+          vpic += S * gv[i];
+          dv += S * gdv[i];
+          if (integ == Integrator::usl) L += gv[i] * G.transpose();
+        });
+        const Vec<D> vnew = alpha * (P.v[p] + dv) + (1.0 - alpha) * vpic;
+        P.v[p] = vnew;
+        if (musl) {
+          const Vec<D> mv = (P.mass[p] * fs) * vnew;
+          Vec<D>* gp = g.mom.data() + off;
+          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { gp[i] += S * mv; });
+        } else {
+          P.x[p] += dt * vpic;
+          if (integ == Integrator::usl) P.L[p] = L;
+        }
+        const double sp = vnew.norm();
+        if (!(sp < 1e300)) bad = std::min(bad, p);
+        vmax = std::max(vmax, sp);
+      }
+    }
+  }
+  vmax_ = vmax;
+  if (bad != kNone)
+    throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
+                                       steps_, bad, sc_.material_names[P.material[bad]]));
+}
+
+template <int D>
+void Solver<D>::g2p() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template g2p_impl<decltype(K)::value>(); });
+}
+
+// MUSL: L from the remapped nodal velocities, then the position update with the step's velocities,
+// both with the shape functions of the start of the step.
+template <int D>
+template <Kernel K>
+void Solver<D>::remap_gradient_impl() {
+  auto& g = sc_.grid;
+  auto& P = sc_.particles;
+  const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_;
+  const long nn = g.nodes();
+  const long nd = static_cast<long>(sc_.deformable_fields) * nn;
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < nd; ++k)
+    g.dvel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
+  const long np = static_cast<long>(P.size());
+#pragma omp parallel for schedule(static)
+  for (long p = 0; p < np; ++p) {
+    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+    const long off = P.field[p] * nn;
+    const Vec<D>* gv = g.vel.data() + off;
+    const Vec<D>* gr = g.dvel.data() + off;
+    Vec<D> vpic = Vec<D>::Zero();
+    Mat<D> L = Mat<D>::Zero();
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+      vpic += S * gv[i];
+      L += gr[i] * G.transpose();
+    });
+    P.L[p] = L;
+    P.x[p] += dt * vpic;
+  }
+}
+
+template <int D>
+void Solver<D>::remap_velocity_gradient() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template remap_gradient_impl<decltype(K)::value>(); });
+}
+
+template <int D>
+template <Kernel K>
+void Solver<D>::velocity_gradient_impl() {
+  auto& g = sc_.grid;
+  auto& P = sc_.particles;
+  const double inv_h = 1.0 / g.h, a = half_width_;
+  const long nn = g.nodes();
+  const long nd = static_cast<long>(sc_.deformable_fields) * nn;
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < nd; ++k)
+    g.vel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
+  const long np = static_cast<long>(P.size());
+#pragma omp parallel for schedule(static)
+  for (long p = 0; p < np; ++p) {
+    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+    const Vec<D>* gv = g.vel.data() + P.field[p] * nn;
+    Mat<D> L = Mat<D>::Zero();
+    for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { L += gv[i] * G.transpose(); });
+    P.L[p] = L;
+  }
+}
+
+template <int D>
+void Solver<D>::velocity_gradient() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template velocity_gradient_impl<decltype(K)::value>(); });
+}
+
+// Kinematics (F, J, V) and the material laws, one call per material per chunk of its batch.
+template <int D>
+void Solver<D>::update_stress() {
+  auto& P = sc_.particles;
+  const double dt = dt_;
+  constexpr long chunk = 2048;
+  double cmax = 0;
+  for (std::size_t m = 0; m < sc_.materials.size(); ++m) {
+    auto& st = sc_.material_state[m];
+    const auto& mat = *sc_.materials[m];
+    const long n = static_cast<long>(st.index.size());
+    const long nchunks = (n + chunk - 1) / chunk;
+    const int hs = mat.history_size();
+    std::vector<MaterialStepResult> res(static_cast<std::size_t>(nchunks));
+    std::vector<std::uint32_t> bad(static_cast<std::size_t>(nchunks), kNone);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long c = 0; c < nchunks; ++c) {
+      const long b = c * chunk, e = std::min(n, b + chunk);
+      std::uint32_t worst = kNone;
+      for (long k = b; k < e; ++k) {
+        const std::uint32_t p = st.index[static_cast<std::size_t>(k)];
+        P.F[p] = (Mat<D>::Identity() + dt * P.L[p]) * P.F[p];
+        const double J = P.F[p].determinant();
+        if (!(J > 0)) worst = std::min(worst, p);
+        P.volume[p] = J * P.volume0[p];
+      }
+      if (worst == kNone) {
+        MaterialBatch<D> batch;
+        batch.index = std::span<const std::uint32_t>(st.index.data() + b, static_cast<std::size_t>(e - b));
+        batch.L = P.L.data();
+        batch.F = P.F.data();
+        batch.mass = P.mass.data();
+        batch.volume = P.volume.data();
+        batch.volume0 = P.volume0.data();
+        batch.stress = P.stress.data();
+        batch.history = st.history.data() + b * hs;
+        batch.dt = dt;
+        res[static_cast<std::size_t>(c)] = mat.update(batch);
+        for (long k = b; k < e; ++k) {
+          const std::uint32_t p = st.index[static_cast<std::size_t>(k)];
+          const Sym3& s = P.stress[p];
+          if (!std::isfinite(s.xx + s.yy + s.zz + s.xy + s.yz + s.zx)) worst = std::min(worst, p);
+        }
+      }
+      bad[static_cast<std::size_t>(c)] = worst;
+    }
+    for (long c = 0; c < nchunks; ++c) {
+      const std::uint32_t p = bad[static_cast<std::size_t>(c)];
+      if (p != kNone) {
+        const double J = P.F[p].determinant();
+        throw InstabilityError(fmt::format(
+            "step {} (t = {:.6g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}",
+            steps_, t_, p, sc_.material_names[m], P.x[p][0], P.x[p][1],
+            J > 0 ? "a non-finite stress" : fmt::format("J = {:.4g} <= 0 (inverted)", J)));
+      }
+      const auto& r = res[static_cast<std::size_t>(c)];
+      internal_ += r.stress_work;
+      dissipated_ += r.dissipated;
+      cmax = std::max(cmax, r.max_wave_speed);
+    }
+  }
+  cmax_ = cmax;
+}
+
+template <int D>
+void Solver<D>::advance_bodies() {
+  const auto& g = sc_.grid;
+  for (auto& b : sc_.bodies)
+    if (b.moving()) b.move_to(t_);
+  // every particle must keep its whole stencil inside the grid
+  const auto& P = sc_.particles;
+  const long np = static_cast<long>(P.size());
+  std::uint32_t bad = kNone;
+  bool rebin = false;
+  const double inv_h = 1.0 / g.h;
+#pragma omp parallel for schedule(static) reduction(min : bad) reduction(|| : rebin)
+  for (long p = 0; p < np; ++p) {
+    for (int d = 0; d < D; ++d) {
+      const double s = (P.x[p][d] - g.origin[d]) * inv_h;
+      if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) bad = std::min(bad, static_cast<std::uint32_t>(p));
+    }
+  }
+  if (bad != kNone)
+    throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m",
+                                       steps_, t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
+  // re-bin particles that crossed into another strip (rare: strains are small)
+  for (long s = 0; s < bins_.strips && !rebin; ++s)
+    for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+      const long cx = static_cast<long>(std::floor((P.x[p][0] - g.origin[0]) * inv_h));
+      if (bins_.strip_of_cell(cx) != s) {
+        rebin = true;
+        break;
+      }
+    }
+  if (rebin) {
+    for (auto& m : bins_.members) m.clear();
+    for (long p = 0; p < np; ++p) {
+      const long cx = static_cast<long>(std::floor((P.x[p][0] - g.origin[0]) * inv_h));
+      bins_.members[static_cast<std::size_t>(bins_.strip_of_cell(cx))].push_back(static_cast<std::uint32_t>(p));
+    }
+  }
+}
+
+template <int D>
+double Solver<D>::kinetic_energy() const {
+  const auto& P = sc_.particles;
+  const double fs = sc_.settings.mass_scaling;
+  return ordered_reduce(static_cast<long>(P.size()), 0.0, [&](long b, long e) {
+    double s = 0;
+    for (long p = b; p < e; ++p) s += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
+    return s;
+  });
+}
+
+template class Solver<2>;
+template class Solver<3>;
+
+}  // namespace pbx

@@ -1,0 +1,68 @@
+#pragma once
+// The explicit MPM time step. step() reads like the algorithm of the paper (Eq. 1-5):
+//   P2G -> contact -> grid update -> contact -> G2P -> stress update
+// with the integrator (USF / USL / MUSL) deciding where the velocity gradient is taken.
+// Each stage is a member function that can be tested alone.
+#include <vector>
+
+#include "solver/bins.hpp"
+#include "solver/scene.hpp"
+
+namespace pbx {
+
+template <int D>
+class Solver {
+ public:
+  explicit Solver(Scene<D>& scene);
+
+  void step();
+
+  double time() const { return t_; }
+  double dt() const { return dt_; }
+  long step_count() const { return steps_; }
+  Scene<D>& scene() { return sc_; }
+  const Scene<D>& scene() const { return sc_; }
+
+  // Energies of the deformable particles, J (per metre of depth in 2D).
+  double kinetic_energy() const;           // with the scaled (inertial) masses
+  double internal_energy() const { return internal_; }      // integrated stress work
+  double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
+  double max_wave_speed() const { return cmax_; }            // unscaled, m/s
+
+  // Restores the clock and energy accumulators (checkpoint restart).
+  void restore(double t, long steps, double internal, double dissipated);
+
+  // Stages (public so tests can drive them one by one).
+  double stable_time_step() const;
+  void reset_grid();
+  void p2g(bool with_forces);
+  void p2g_forces();
+  void rigid_p2g();
+  void contact(bool record);
+  void grid_update();
+  void finalize_grid_velocities();
+  void g2p();
+  void remap_velocity_gradient();
+  void update_stress();
+  void advance_bodies();
+
+ private:
+  template <Kernel K> void p2g_impl(bool mass_momentum, bool forces);
+  template <Kernel K> void g2p_impl();
+  template <Kernel K> void remap_gradient_impl();
+  template <Kernel K> void velocity_gradient_impl();
+  template <Kernel K> void rigid_p2g_impl();
+  void velocity_gradient();  // USF: L from the interpolated velocities
+
+  Scene<D>& sc_;
+  StripBins bins_;
+  double t_ = 0, dt_ = 0;
+  long steps_ = 0;
+  double cmax_ = 0, vmax_ = 0;
+  double internal_ = 0, dissipated_ = 0;
+  double mass_eps_ = 0;
+  double half_width_ = 0;  // particle half-width in cells (uGIMP)
+  std::vector<std::vector<std::pair<long, double>>> static_presence_;
+};
+
+}  // namespace pbx
