@@ -1,0 +1,225 @@
+#include "analysis/run_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "analysis/confined_moduli.hpp"
+#include "analysis/linear_window.hpp"
+#include "analysis/strength.hpp"
+#include "analysis/stress_strain_curve.hpp"
+#include "core/error.hpp"
+#include "io/deck.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pbx {
+
+namespace {
+
+double number_or(const Json* j, const std::string& key, double def) {
+  if (!j) return def;
+  const Json* v = j->find(key);
+  return v && v->is_number() ? v->as_number() : def;
+}
+
+Json discrepancy_json(const CurveDiscrepancy& d) {
+  Json j = Json::object();
+  j.set("rms_relative", d.rms_relative);
+  j.set("max_relative", d.max_relative);
+  j.set("points", d.points);
+  return j;
+}
+
+Json thinned_curve(const StressStrainCurve& c, int target) {
+  const std::size_t stride = std::max<std::size_t>(1, c.size() / std::size_t(std::max(1, target)));
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < c.size(); i += stride) keep.push_back(i);
+  if (!keep.empty() && keep.back() != c.size() - 1) keep.push_back(c.size() - 1);
+  auto pick = [&](const std::vector<double>& v) {
+    std::vector<double> out;
+    out.reserve(keep.size());
+    for (auto i : keep) out.push_back(v[i]);
+    return Json::numbers(out);
+  };
+  Json j = Json::object();
+  j.set("strain", pick(c.strain));
+  j.set("punch_stress_Pa", pick(c.punch_stress));
+  j.set("minus_syy_Pa", pick(c.vol_axial));
+  j.set("wall_stress_Pa", pick(c.wall_stress));
+  j.set("minus_sxx_Pa", pick(c.vol_lateral));
+  j.set("minus_szz_Pa", pick(c.vol_out_of_plane));
+  j.set("ke_ie", pick(c.ke_ie));
+  return j;
+}
+
+}  // namespace
+
+AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
+  AnalysisOptions o;
+  if (t.has("linear_window")) {
+    auto w = t.quantities("linear_window", dim::none);
+    if (w.size() != 2) t.fail("linear_window", "expected [lo, hi] (strain)");
+    o.window_lo = w[0];
+    o.window_hi = w[1];
+  }
+  if (t.has("plateau_window")) {
+    auto w = t.quantities("plateau_window", dim::none);
+    if (w.size() != 2) t.fail("plateau_window", "expected [lo, hi] (strain)");
+    o.plateau_lo = w[0];
+    o.plateau_hi = w[1];
+  }
+  o.window_tolerance = t.in_range("window_tolerance", 1e-6, 1.0, o.window_tolerance);
+  o.window_min_points = int(t.integer("window_min_points", o.window_min_points));
+  if (o.window_min_points < 3) t.fail("window_min_points", "must be >= 3");
+  o.window_max_strain = t.in_range("window_max_strain", 1e-9, 1.0, o.window_max_strain);
+  o.strength_max_strain = t.in_range("strength_max_strain", 1e-9, 1.0, o.strength_max_strain);
+  o.ke_ie_limit = t.in_range("ke_ie_limit", 0.0, 10.0, o.ke_ie_limit);
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    t.fail("linear_window", e.what());
+  }
+  return o;
+}
+
+void AnalysisOptions::validate() const {
+  if (window_lo.has_value() != window_hi.has_value()) throw InputError("linear window: give both ends");
+  if (window_lo && !(*window_hi > *window_lo && *window_lo >= 0)) {
+    throw InputError(fmt::format("linear window [{}, {}]: needs 0 <= lo < hi", *window_lo, *window_hi));
+  }
+  if (plateau_lo.has_value() != plateau_hi.has_value()) throw InputError("plateau window: give both ends");
+  if (plateau_lo && !(*plateau_hi > *plateau_lo && *plateau_lo >= 0)) {
+    throw InputError(fmt::format("plateau window [{}, {}]: needs 0 <= lo < hi", *plateau_lo, *plateau_hi));
+  }
+  if (!(strength_max_strain > 0)) throw InputError("strength window end strain must be > 0");
+}
+
+Json AnalysisOptions::to_json() const {
+  Json j = Json::object();
+  j.set("linear_window", window_lo ? Json::numbers({*window_lo, *window_hi}) : Json("automatic"));
+  j.set("window_tolerance", window_tolerance);
+  j.set("window_min_points", window_min_points);
+  j.set("window_max_strain", window_max_strain);
+  j.set("strength_max_strain", strength_max_strain);
+  j.set("plateau_window", plateau_lo ? Json::numbers({*plateau_lo, *plateau_hi}) : Json("automatic"));
+  j.set("ke_ie_limit", ke_ie_limit);
+  return j;
+}
+
+Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
+  opt.validate();
+  const fs::path dir(run_dir);
+  if (!fs::is_directory(dir)) throw InputError(fmt::format("run directory '{}' does not exist", run_dir));
+  const fs::path run_json = dir / "run.json", history = dir / "history.csv";
+  if (!fs::exists(run_json)) throw InputError(fmt::format("{}: missing (written by 'pbxmpm run')", run_json.string()));
+  if (!fs::exists(history)) throw InputError(fmt::format("{}: missing (written by 'pbxmpm run')", history.string()));
+  const Json run = Json::read_file(run_json.string());
+  const Json* status = run.find("status");
+  const std::string st = status && status->is_string() ? status->as_string() : "unknown";
+  if (st != "finished" && !opt.allow_unfinished) {
+    throw InputError(fmt::format("{}: status is '{}', not 'finished' (use --allow-unfinished to analyse anyway)",
+                                 run_json.string(), st));
+  }
+  std::vector<std::string> warnings;
+  const double ramp = number_or(&run, "ramp_strain", 0.0);
+  if (!run.find("ramp_strain")) warnings.push_back("run.json has no ramp_strain; the fits start at strain 0");
+
+  const StressStrainCurve c = StressStrainCurve::from_history(history.string());
+  if (c.size() < 3) throw InputError(fmt::format("{}: only {} rows", history.string(), c.size()));
+
+  LinearWindow w;
+  if (opt.window_lo) {
+    w.lo = *opt.window_lo;
+    w.hi = *opt.window_hi;
+    w.automatic = false;
+    w.points = int(points_in(c.strain, w.lo, w.hi).size());
+    if (w.points < 3) {
+      throw InputError(fmt::format("linear window [{}, {}] holds {} points of {}; need >= 3", w.lo, w.hi, w.points,
+                                   history.string()));
+    }
+  } else {
+    LinearWindowOptions lw;
+    lw.start = std::max(ramp, 0.0);
+    lw.tolerance = opt.window_tolerance;
+    lw.min_points = opt.window_min_points;
+    lw.max_strain = opt.window_max_strain;
+    w = find_linear_window(c.strain, c.punch_stress, lw);
+  }
+  if (!w.note.empty()) warnings.push_back(w.note);
+  const ConfinedModuli mod = confined_moduli(c, w.lo, w.hi);
+
+  StrengthOptions so;
+  so.max_strain = opt.strength_max_strain;
+  so.plateau_lo = opt.plateau_lo;
+  so.plateau_hi = opt.plateau_hi;
+  const Strength s_punch = strength_and_yield(c.strain, c.punch_stress, mod.punch, w.hi, so);
+  const Strength s_vol = strength_and_yield(c.strain, c.vol_axial, mod.axial_vol, w.hi, so);
+  if (s_punch.still_rising) {
+    warnings.push_back("the punch stress still rises at the end of the strength window: strength is the end value");
+  }
+
+  Json j = Json::object();
+  j.set("format", "pbxmpm-analysis-1");
+  j.set("run_dir", fs::absolute(dir).lexically_normal().string());
+  j.set("status", st);
+  for (const char* key : {"code_version", "temperature_K", "ramp_strain", "mass_scaling", "specimen", "study"}) {
+    if (const Json* v = run.find(key)) j.set(key, *v);
+  }
+  const Json* spec = run.find("specimen");
+  j.set("density_kg_m3", number_or(spec, "density_kg_m3", std::nan("")));
+  j.set("porosity", number_or(spec, "porosity", std::nan("")));
+  j.set("options", opt.to_json());
+
+  Json win = Json::object();
+  win.set("lo", w.lo);
+  win.set("hi", w.hi);
+  win.set("points", w.points);
+  win.set("automatic", w.automatic);
+  j.set("linear_window", win);
+  j.set("moduli", mod.to_json());
+  j.set("strength", s_punch.to_json());
+  j.set("strength_volume_average", s_vol.to_json());
+
+  Json agree = Json::object();
+  agree.set("punch_vs_minus_syy", discrepancy_json(curve_discrepancy(c.strain, c.punch_stress, c.vol_axial, ramp)));
+  agree.set("wall_vs_minus_sxx", discrepancy_json(curve_discrepancy(c.strain, c.wall_stress, c.vol_lateral, ramp)));
+  agree.set("M_relative_difference", (mod.axial_vol.slope - mod.M) / mod.M);
+  agree.set("lambda_relative_difference", (mod.lateral_vol.slope - mod.lambda) / mod.lambda);
+  agree.set("strength_relative_difference", (s_vol.strength - s_punch.strength) / s_punch.strength);
+  j.set("agreement", agree);
+
+  double ke_max = 0;
+  int above = 0, n_after = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (c.strain[i] <= ramp || !std::isfinite(c.ke_ie[i])) continue;
+    ++n_after;
+    ke_max = std::max(ke_max, c.ke_ie[i]);
+    if (c.ke_ie[i] > opt.ke_ie_limit) ++above;
+  }
+  Json qs = Json::object();
+  qs.set("ke_ie_max_after_ramp", n_after ? Json(ke_max) : Json());
+  qs.set("fraction_above_limit", n_after ? Json(double(above) / n_after) : Json());
+  qs.set("limit", opt.ke_ie_limit);
+  qs.set("flagged", ke_max > opt.ke_ie_limit);
+  j.set("quasi_static", qs);
+  if (ke_max > opt.ke_ie_limit) {
+    warnings.push_back(fmt::format("not quasi-static: KE/IE reaches {:.3g} after the ramp (limit {:.3g})", ke_max,
+                                   opt.ke_ie_limit));
+  }
+  Json warn = Json::array();
+  for (auto& s : warnings) warn.push(s);
+  j.set("warnings", warn);
+  j.set("curve", thinned_curve(c, opt.curve_points));
+  return j;
+}
+
+Json analyze_run_to_file(const std::string& run_dir, const AnalysisOptions& opt) {
+  Json j = analyze_run(run_dir, opt);
+  j.write_file((fs::path(run_dir) / "analysis.json").string());
+  return j;
+}
+
+}  // namespace pbx

@@ -1,0 +1,36 @@
+#pragma once
+// `pbxmpm analyze RUN_DIR`: the whole analysis of one run directory (history.csv + run.json) into
+// RUN_DIR/analysis.json. See docs/theory/analysis.md for every definition.
+#include <optional>
+#include <string>
+
+#include "analysis/json.hpp"
+
+namespace pbx {
+
+class DeckTable;
+
+struct AnalysisOptions {
+  std::optional<double> window_lo, window_hi;  // linear window by hand (strain)
+  double window_tolerance = 0.10;
+  int window_min_points = 8;
+  double window_max_strain = 0.02;
+  double strength_max_strain = 0.03;
+  std::optional<double> plateau_lo, plateau_hi;
+  double ke_ie_limit = 0.05;
+  bool allow_unfinished = false;
+  int curve_points = 400;  // the curve stored in analysis.json is thinned to about this many points
+
+  // Reads the [analysis] keys of docs/deck/analysis.md from a deck table (all optional).
+  static AnalysisOptions from_deck(const DeckTable& t);
+  void validate() const;  // throws InputError naming the offending option
+  Json to_json() const;
+};
+
+// Analyses RUN_DIR; throws InputError naming a missing file, key or column.
+Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt);
+
+// analyze_run + write RUN_DIR/analysis.json; returns the document.
+Json analyze_run_to_file(const std::string& run_dir, const AnalysisOptions& opt);
+
+}  // namespace pbx

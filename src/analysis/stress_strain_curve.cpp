@@ -1,0 +1,64 @@
+#include "analysis/stress_strain_curve.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "analysis/csv_table.hpp"
+
+namespace pbx {
+
+StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
+  const CsvTable t = CsvTable::read(path);
+  const auto& eps = t.column("strain");
+  const auto& punch = t.column("punch_stress_Pa");
+  const auto& wall = t.column("wall_stress_Pa");
+  const auto& sxx = t.column("sxx_Pa");
+  const auto& syy = t.column("syy_Pa");
+  const auto& szz = t.column("szz_Pa");
+  const auto& keie = t.column("ke_ie");
+  const auto& time = t.column("t_s");
+  StressStrainCurve c;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    if (!std::isfinite(eps[i])) continue;
+    c.strain.push_back(eps[i]);
+    c.punch_stress.push_back(punch[i]);
+    c.wall_stress.push_back(wall[i]);
+    c.vol_axial.push_back(-syy[i]);
+    c.vol_lateral.push_back(-sxx[i]);
+    c.vol_out_of_plane.push_back(-szz[i]);
+    c.ke_ie.push_back(keie[i]);
+    c.time.push_back(time[i]);
+  }
+  return c;
+}
+
+std::vector<std::size_t> points_in(const std::vector<double>& strain, double lo, double hi) {
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < strain.size(); ++i) {
+    if (strain[i] >= lo && strain[i] <= hi) idx.push_back(i);
+  }
+  return idx;
+}
+
+CurveDiscrepancy curve_discrepancy(const std::vector<double>& strain, const std::vector<double>& a,
+                                   const std::vector<double>& b, double from) {
+  CurveDiscrepancy d;
+  double amax = 0, sum2 = 0, dmax = 0;
+  for (std::size_t i = 0; i < strain.size(); ++i) {
+    if (strain[i] < from || !std::isfinite(a[i]) || !std::isfinite(b[i])) continue;
+    amax = std::max(amax, std::fabs(a[i]));
+    const double r = a[i] - b[i];
+    sum2 += r * r;
+    dmax = std::max(dmax, std::fabs(r));
+    ++d.points;
+  }
+  if (d.points == 0 || amax == 0) {
+    d.rms_relative = d.max_relative = std::nan("");
+    return d;
+  }
+  d.rms_relative = std::sqrt(sum2 / d.points) / amax;
+  d.max_relative = dmax / amax;
+  return d;
+}
+
+}  // namespace pbx

@@ -1,0 +1,40 @@
+#pragma once
+// The homogenised stress-strain curve of one run, read from RUN/history.csv. Every stress here is
+// COMPRESSION POSITIVE (the volume-averaged Cauchy stresses of history.csv are tension positive
+// and are negated on reading), strain is the punch displacement over the initial height.
+#include <string>
+#include <vector>
+
+namespace pbx {
+
+struct StressStrainCurve {
+  std::vector<double> strain;
+  std::vector<double> punch_stress;    // Pa, punch force / contact length
+  std::vector<double> wall_stress;     // Pa, mean side-wall force / current height
+  std::vector<double> vol_axial;       // Pa, -<sigma_yy>
+  std::vector<double> vol_lateral;     // Pa, -<sigma_xx>
+  std::vector<double> vol_out_of_plane;  // Pa, -<sigma_zz>
+  std::vector<double> ke_ie;           // kinetic / internal energy of the specimen
+  std::vector<double> time;            // s
+  std::size_t size() const { return strain.size(); }
+
+  // Reads the columns above from a history.csv; other columns are ignored. Rows with a
+  // non-finite strain are dropped. Throws InputError naming a missing column.
+  static StressStrainCurve from_history(const std::string& path);
+};
+
+// Index range [begin, end) of the points with lo <= strain <= hi (strain need not be monotonic
+// at the very start; points are taken in file order).
+std::vector<std::size_t> points_in(const std::vector<double>& strain, double lo, double hi);
+
+// Agreement of two measures of one stress over the points with strain >= from:
+// rms and max of (a - b), relative to max |a|.
+struct CurveDiscrepancy {
+  double rms_relative = 0;
+  double max_relative = 0;
+  int points = 0;
+};
+CurveDiscrepancy curve_discrepancy(const std::vector<double>& strain, const std::vector<double>& a,
+                                   const std::vector<double>& b, double from);
+
+}  // namespace pbx

@@ -1,0 +1,382 @@
+#include "analysis/study_fits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "analysis/density_law.hpp"
+#include "analysis/ensemble.hpp"
+#include "analysis/normalized_curve_law.hpp"
+#include "analysis/temperature_law.hpp"
+#include "core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pbx {
+
+namespace {
+
+double num(const Json& j, std::initializer_list<const char*> path) {
+  const Json* p = &j;
+  for (const char* k : path) {
+    p = p->find(k);
+    if (!p) return std::nan("");
+  }
+  return p->is_number() ? p->as_number() : std::nan("");
+}
+
+std::string str(const Json& j, const char* key, const std::string& def = "") {
+  const Json* p = j.find(key);
+  return p && p->is_string() ? p->as_string() : def;
+}
+
+// Run temperature: study entry, else analysis (run.json) value.
+double temperature_of(const StudyRun& r) {
+  double T = num(r.entry, {"temperature_K"});
+  return std::isfinite(T) ? T : num(r.analysis, {"temperature_K"});
+}
+// Measured specimen density (kg/m3), else the nominal study density.
+double density_of(const StudyRun& r) {
+  double rho = num(r.analysis, {"density_kg_m3"});
+  if (std::isfinite(rho)) return rho;
+  const double g = num(r.entry, {"density_g_cm3"});
+  return std::isfinite(g) ? g * 1e3 : std::nan("");
+}
+std::string group_of(const StudyRun& r) {
+  std::string g = str(r.entry, "group");
+  if (g.empty()) {
+    if (const Json* s = r.analysis.find("study")) g = str(*s, "group");
+  }
+  return g;
+}
+
+struct Quantity {
+  const char* name;
+  std::initializer_list<const char*> path;
+};
+const Quantity kQuantities[] = {
+    {"K_Pa", {"moduli", "K_Pa"}},
+    {"G_Pa", {"moduli", "G_Pa"}},
+    {"E_Pa", {"moduli", "E_Pa"}},
+    {"M_Pa", {"moduli", "M_Pa"}},
+    {"lambda_Pa", {"moduli", "lambda_Pa"}},
+    {"nu", {"moduli", "nu"}},
+    {"K_isotropic_Pa", {"moduli", "K_isotropic_Pa"}},
+    {"lateral_coefficient", {"moduli", "lateral_coefficient"}},
+    {"strength_Pa", {"strength", "strength_Pa"}},
+    {"yield_stress_Pa", {"strength", "yield_stress_Pa"}},
+    {"yield_strain", {"strength", "yield_strain"}},
+    {"density_kg_m3", {"density_kg_m3"}},
+    {"porosity", {"porosity"}},
+    {"ke_ie_max_after_ramp", {"quasi_static", "ke_ie_max_after_ramp"}},
+    {"punch_vs_volume_rms_relative", {"agreement", "punch_vs_minus_syy", "rms_relative"}},
+};
+
+Json hs_json(const HashinShtrikmanBounds& b) {
+  Json j = Json::object();
+  j.set("K_lower_Pa", b.K_lower);
+  j.set("K_upper_Pa", b.K_upper);
+  j.set("G_lower_Pa", b.G_lower);
+  j.set("G_upper_Pa", b.G_upper);
+  return j;
+}
+
+std::vector<Phase> phases_of(const StudyRun& r, std::string& source) {
+  // run.json is re-read for "phases" (analysis.json keeps only what the analysis needs).
+  const fs::path rj = fs::path(r.dir) / "run.json";
+  const Json run = Json::read_file(rj.string());
+  if (const Json* ph = run.find("phases"); ph && ph->is_array()) {
+    std::vector<Phase> out;
+    for (const auto& p : ph->as_array()) {
+      out.push_back({p.find("bulk_modulus_Pa") ? p.find("bulk_modulus_Pa")->as_number(rj.string() + ": phases.bulk_modulus_Pa") : std::nan(""),
+                     p.find("shear_modulus_Pa") ? p.find("shear_modulus_Pa")->as_number(rj.string() + ": phases.shear_modulus_Pa") : std::nan(""),
+                     p.find("volume_fraction") ? p.find("volume_fraction")->as_number(rj.string() + ": phases.volume_fraction") : std::nan("")});
+    }
+    source = "run.json phases";
+    return out;
+  }
+  double phi = num(r.analysis, {"porosity"});
+  if (!std::isfinite(phi)) phi = 0;
+  source = "paper Table 1 phases (run.json has no 'phases'), run porosity";
+  return paper_phases(phi);
+}
+
+}  // namespace
+
+std::string default_paper_values_path() { return std::string(PBXMPM_SOURCE_DIR) + "/tools/report/paper_values.toml"; }
+
+std::vector<Phase> paper_phases(double porosity) {
+  const double rho_t = 1934, rho_b = 2020, c0 = 2340;
+  const double vt = 0.95 / rho_t, vb = 0.05 / rho_b;
+  const double solid = 1.0 - porosity;
+  std::vector<Phase> ph{{rho_t * c0 * c0, 11.5e9, solid * vt / (vt + vb)}, {0.33e9, 0.07e9, solid * vb / (vt + vb)}};
+  if (porosity > 0) ph.push_back({0, 0, porosity});
+  return ph;
+}
+
+std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOptions& opt) {
+  const fs::path dir(study_dir);
+  const fs::path sj = dir / "study.json";
+  if (!fs::is_directory(dir)) throw InputError(fmt::format("study directory '{}' does not exist", study_dir));
+  if (!fs::exists(sj)) {
+    throw InputError(fmt::format("{}: missing; a study directory holds study.json and runs/<id>/ (made by 'pbxmpm study')",
+                                 sj.string()));
+  }
+  const Json study = Json::read_file(sj.string());
+  const Json* runs = study.find("runs");
+  if (!runs || !runs->is_array() || runs->as_array().empty()) {
+    throw InputError(fmt::format("{}: no \"runs\" array (or it is empty)", sj.string()));
+  }
+  std::vector<std::string> missing;
+  std::vector<StudyRun> out;
+  for (const auto& e : runs->as_array()) {
+    StudyRun r;
+    r.entry = e;
+    r.id = str(e, "id");
+    std::string rel = str(e, "dir", r.id.empty() ? "" : "runs/" + r.id);
+    if (rel.empty()) {
+      missing.push_back("a run entry without \"id\" or \"dir\"");
+      continue;
+    }
+    if (r.id.empty()) r.id = fs::path(rel).filename().string();
+    const fs::path rd = dir / rel;
+    r.dir = fs::absolute(rd).lexically_normal().string();
+    if (!fs::is_directory(rd)) {
+      missing.push_back(fmt::format("{}/ (run '{}' was not run)", rel, r.id));
+      continue;
+    }
+    bool ok = true;
+    for (const char* f : {"run.json", "history.csv"}) {
+      if (!fs::exists(rd / f)) {
+        missing.push_back(fmt::format("{}/{}", rel, f));
+        ok = false;
+      }
+    }
+    if (ok) {
+      const Json rj = Json::read_file((rd / "run.json").string());
+      const std::string st = str(rj, "status", "unknown");
+      if (st != "finished" && !opt.analysis.allow_unfinished) {
+        missing.push_back(fmt::format("{}/run.json: status '{}', not 'finished'", rel, st));
+        ok = false;
+      }
+    }
+    if (ok && opt.reuse_analysis && !fs::exists(rd / "analysis.json")) {
+      missing.push_back(fmt::format("{}/analysis.json", rel));
+      ok = false;
+    }
+    if (ok) out.push_back(std::move(r));
+  }
+  if (!missing.empty()) {
+    throw InputError(fmt::format("study '{}' is incomplete; missing or unfinished:\n  {}", study_dir,
+                                 fmt::join(missing, "\n  ")));
+  }
+  for (auto& r : out) {
+    r.analysis = opt.reuse_analysis ? Json::read_file((fs::path(r.dir) / "analysis.json").string())
+                                    : analyze_run_to_file(r.dir, opt.analysis);
+  }
+  return out;
+}
+
+Json paper_table3_refit(const std::string& path, double confidence) {
+  Json j = Json::object();
+  if (!fs::exists(path)) {
+    j.set("note", fmt::format("paper values file '{}' not found; refit skipped", path));
+    return j;
+  }
+  toml::table t;
+  try {
+    t = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}: {}", path, e.description()));
+  }
+  std::vector<double> T, s;
+  if (auto* a = t["table3"]["T_K"].as_array()) {
+    for (auto& v : *a) T.push_back(v.value<double>().value_or(std::nan("")));
+  }
+  if (auto* a = t["table3"]["strength_MPa"].as_array()) {
+    for (auto& v : *a) s.push_back(v.value<double>().value_or(std::nan("")) * 1e6);
+  }
+  const double T0 = t["fits"]["temperature"]["T0_K"].value<double>().value_or(293.0);
+  if (T.size() < 2 || T.size() != s.size()) {
+    j.set("note", fmt::format("{}: [table3] T_K / strength_MPa missing or of different lengths", path));
+    return j;
+  }
+  j.set("source", "paper Table 3 (compression strength vs temperature)");
+  j.set("T_K", Json::numbers(T));
+  j.set("strength_Pa", Json::numbers(s));
+  j.set("T0_K", T0);
+  j.set("nonlinear", fit_temperature_law_nonlinear(T, s, T0, confidence).to_json());
+  j.set("loglinear", fit_temperature_law_loglinear(T, s, T0, confidence).to_json());
+  if (auto a = t["fits"]["temperature"]["alpha"].value<double>()) j.set("paper_alpha", *a);
+  if (auto s0 = t["fits"]["temperature"]["sigma0_MPa"].value<double>()) j.set("paper_sigma0_Pa", *s0 * 1e6);
+  return j;
+}
+
+Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
+  Json out = Json::object();
+  out.set("format", "pbxmpm-fits-1");
+  out.set("confidence", opt.confidence);
+
+  // Conditions: runs with the same group, temperature and nominal density are seeds of one condition.
+  struct Cond {
+    std::string group;
+    double T = 0, rho_nominal = 0;
+    std::vector<const StudyRun*> runs;
+  };
+  std::vector<Cond> conds;
+  for (const auto& r : runs) {
+    const std::string g = group_of(r);
+    const double T = temperature_of(r);
+    double rn = num(r.entry, {"density_g_cm3"});
+    rn = std::isfinite(rn) ? rn * 1e3 : density_of(r);
+    auto same = [&](const Cond& c) {
+      return c.group == g && std::fabs(c.T - T) < 0.5 && (std::fabs(c.rho_nominal - rn) < 0.5 || (std::isnan(rn) && std::isnan(c.rho_nominal)));
+    };
+    auto it = std::find_if(conds.begin(), conds.end(), same);
+    if (it == conds.end()) {
+      conds.push_back({g, T, rn, {}});
+      it = conds.end() - 1;
+    }
+    it->runs.push_back(&r);
+  }
+  Json cj = Json::array();
+  for (const auto& c : conds) {
+    Json e = Json::object();
+    e.set("group", c.group);
+    e.set("temperature_K", c.T);
+    e.set("density_nominal_kg_m3", c.rho_nominal);
+    Json ids = Json::array();
+    for (auto* r : c.runs) ids.push(r->id);
+    e.set("runs", ids);
+    Json stats = Json::object();
+    for (const auto& q : kQuantities) {
+      std::vector<double> v;
+      for (auto* r : c.runs) v.push_back(num(r->analysis, q.path));
+      stats.set(q.name, ensemble_stat(v).to_json());
+    }
+    e.set("stats", stats);
+    cj.push(e);
+  }
+  out.set("conditions", cj);
+
+  // Eq. 13 on the temperature group (all seeds as individual points).
+  auto in_group = [&](const StudyRun& r, const char* g) {
+    const std::string rg = group_of(r);
+    return rg == g || rg.empty();
+  };
+  std::vector<double> T, sc;
+  for (const auto& r : runs) {
+    if (!in_group(r, "temperature")) continue;
+    const double t = temperature_of(r), s = num(r.analysis, {"strength", "strength_Pa"});
+    if (std::isfinite(t) && std::isfinite(s)) {
+      T.push_back(t);
+      sc.push_back(s);
+    }
+  }
+  Json eq13 = Json::object();
+  eq13.set("T0_K", opt.T0_K);
+  eq13.set("T_K", Json::numbers(T));
+  eq13.set("strength_Pa", Json::numbers(sc));
+  std::vector<double> distinct_T = T;
+  std::sort(distinct_T.begin(), distinct_T.end());
+  distinct_T.erase(std::unique(distinct_T.begin(), distinct_T.end(), [](double a, double b) { return std::fabs(a - b) < 0.5; }),
+                   distinct_T.end());
+  if (distinct_T.size() >= 2) {
+    eq13.set("nonlinear", fit_temperature_law_nonlinear(T, sc, opt.T0_K, opt.confidence).to_json());
+    eq13.set("loglinear", fit_temperature_law_loglinear(T, sc, opt.T0_K, opt.confidence).to_json());
+  } else {
+    eq13.set("note", "fewer than 2 temperatures: Eq. 13 not fitted");
+  }
+  out.set("eq13", eq13);
+
+  // Eq. 14 on the normalised curves at T0 (each run normalised by its own strength).
+  std::vector<double> ep, sn;
+  for (const auto& r : runs) {
+    if (std::fabs(temperature_of(r) - opt.T0_K) > 0.5 || !in_group(r, "temperature")) continue;
+    const double s = num(r.analysis, {"strength", "strength_Pa"});
+    const Json* curve = r.analysis.find("curve");
+    if (!curve || !(s > 0)) continue;
+    const auto& e = curve->find("strain")->as_array();
+    const auto& p = curve->find("punch_stress_Pa")->as_array();
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      if (!e[i].is_number() || !p[i].is_number()) continue;
+      const double pct = 100.0 * e[i].as_number();
+      if (pct >= opt.eq14_lo_percent && pct <= opt.eq14_hi_percent) {
+        ep.push_back(pct);
+        sn.push_back(p[i].as_number() / s);
+      }
+    }
+  }
+  Json eq14 = Json::object();
+  eq14.set("T_K", opt.T0_K);
+  eq14.set("window_percent", Json::numbers({opt.eq14_lo_percent, opt.eq14_hi_percent}));
+  eq14.set("points", int(ep.size()));
+  if (ep.size() >= 4) {
+    eq14.set("fit", fit_normalized_curve(ep, sn, opt.confidence).to_json());
+  } else {
+    eq14.set("note", fmt::format("{} points at T0 = {} K in the Eq. 14 window: not fitted", ep.size(), opt.T0_K));
+  }
+  out.set("eq14", eq14);
+
+  // Eq. 19-22 on the density group.
+  std::vector<double> rho, Gs, Ks;
+  double tmd = std::nan("");
+  for (const auto& r : runs) {
+    if (!std::isfinite(tmd)) tmd = num(r.analysis, {"specimen", "tmd_kg_m3"});
+    if (!in_group(r, "density")) continue;
+    const double d = density_of(r), G = num(r.analysis, {"moduli", "G_Pa"}), K = num(r.analysis, {"moduli", "K_Pa"});
+    if (std::isfinite(d) && G > 0 && K > 0) {
+      rho.push_back(d);
+      Gs.push_back(G);
+      Ks.push_back(K);
+    }
+  }
+  const double rho0 = opt.rho0.value_or(std::isfinite(tmd) ? tmd : 1942.0);
+  Json hsj = Json::object();
+  hsj.set("rho0_kg_m3", rho0);
+  hsj.set("GU_Pa", opt.GU);
+  hsj.set("KU_Pa", opt.KU);
+  hsj.set("density_kg_m3", Json::numbers(rho));
+  hsj.set("G_Pa", Json::numbers(Gs));
+  hsj.set("K_Pa", Json::numbers(Ks));
+  std::vector<double> distinct_rho = rho;
+  std::sort(distinct_rho.begin(), distinct_rho.end());
+  distinct_rho.erase(std::unique(distinct_rho.begin(), distinct_rho.end(), [](double a, double b) { return std::fabs(a - b) < 0.05; }),
+                     distinct_rho.end());
+  if (distinct_rho.size() >= 2) {
+    hsj.set("G", fit_density_law(rho, Gs, rho0, opt.GU, opt.confidence).to_json());
+    hsj.set("K", fit_density_law(rho, Ks, rho0, opt.KU, opt.confidence).to_json());
+  } else {
+    hsj.set("note", "fewer than 2 densities: Eq. 19-22 not fitted");
+  }
+  // Bounds from the run's own phases (first run), and for the pore-free composite (compare G^U, K^U).
+  if (!runs.empty()) {
+    std::string source;
+    std::vector<Phase> ph = phases_of(runs.front(), source);
+    Json b = Json::object();
+    b.set("phases_source", source);
+    b.set("run", runs.front().id);
+    b.set("with_pores", hs_json(hashin_shtrikman_bounds(ph)));
+    std::vector<Phase> solid;
+    double fs_sum = 0;
+    for (const auto& p : ph) {
+      if (p.bulk_modulus > 0 || p.shear_modulus > 0) {
+        solid.push_back(p);
+        fs_sum += p.volume_fraction;
+      }
+    }
+    for (auto& p : solid) p.volume_fraction /= fs_sum;
+    b.set("pore_free", hs_json(hashin_shtrikman_bounds(solid)));
+    hsj.set("bounds", b);
+  }
+  out.set("density_law", hsj);
+  out.set("paper_table3_refit",
+          paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence));
+  return out;
+}
+
+}  // namespace pbx

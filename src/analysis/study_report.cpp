@@ -1,0 +1,48 @@
+#include "analysis/study_report.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pbx {
+
+namespace {
+// Single-quote for the POSIX shell used by std::system.
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+}  // namespace
+
+std::string build_report(const std::string& study_dir, const ReportOptions& opt) {
+  const std::vector<StudyRun> runs = load_study(study_dir, opt.fits);
+  const Json fits = fit_study(runs, opt.fits);
+  const fs::path out = opt.out_dir.empty() ? fs::path(study_dir) / "report" : fs::path(opt.out_dir);
+  fs::create_directories(out);
+  fits.write_file((out / "fits.json").string());
+
+  const std::string script =
+      opt.script.empty() ? std::string(PBXMPM_SOURCE_DIR) + "/tools/report/make_report.py" : opt.script;
+  if (!fs::exists(script)) throw InputError(fmt::format("report script '{}' not found", script));
+  if (!fs::exists(opt.python)) {
+    throw InputError(fmt::format("python '{}' not found (install python3-numpy python3-matplotlib: scripts/install-deps)",
+                                 opt.python));
+  }
+  const std::string paper = opt.fits.paper_values.empty() ? default_paper_values_path() : opt.fits.paper_values;
+  const std::string cmd = fmt::format("{} {} {} --out {} --paper-values {}", quoted(opt.python), quoted(script),
+                                      quoted(study_dir), quoted(out.string()), quoted(paper));
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) {
+    throw std::runtime_error(fmt::format("the report script failed (exit status {}): {}", rc, cmd));
+  }
+  return out.string();
+}
+
+}  // namespace pbx

@@ -1,0 +1,66 @@
+#pragma once
+// Synthetic run directories in the format of `pbxmpm run`, for testing the analysis without the
+// engine: confined compression of an elastic solid (K, G) that softens onto the paper's Eq. 14
+// plateau, sigma = min(M e, sigma_c (A e% + B e%^n)), with the lateral stress k0 = lambda/M times
+// the axial one. The volume averages differ from the boundary stresses by `vol_bias` (relative).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace pbx::test {
+
+struct SyntheticRun {
+  double K = 2.79e9, G = 1.30e9;
+  double strength_scale = 32.8e6;  // sigma_c of the plateau law
+  double A = -0.1206, B = 1.084, n = 0.2467;
+  bool elastic_only = false;
+  double szz_factor = 1.0;  // sigma_zz = szz_factor * sigma_xx
+  double max_strain = 0.04;
+  int rows = 801;
+  double ramp_strain = 0.0005;
+  double vol_bias = 0.01;
+  double temperature_K = 293;
+  double density_kg_m3 = 1787;
+  double porosity = 0.0798;
+  std::string status = "finished";
+  std::string group = "temperature";
+  int seed = 1;
+};
+
+inline double synthetic_axial(const SyntheticRun& s, double e) {
+  const double M = s.K + 4.0 * s.G / 3.0;
+  if (s.elastic_only || e <= 0) return M * e;
+  const double pct = 100.0 * e;
+  return std::min(M * e, s.strength_scale * (s.A * pct + s.B * std::pow(pct, s.n)));
+}
+
+inline void write_synthetic_run(const std::filesystem::path& dir, const SyntheticRun& s) {
+  std::filesystem::create_directories(dir);
+  const double M = s.K + 4.0 * s.G / 3.0, lambda = s.K - 2.0 * s.G / 3.0, k0 = lambda / M;
+  std::ofstream h(dir / "history.csv");
+  h << "step,t_s,dt_s,strain,punch_velocity_m_s,punch_force_N_per_m,punch_stress_Pa,wall_left_force_N_per_m,"
+       "wall_right_force_N_per_m,wall_bottom_force_N_per_m,wall_stress_Pa,sxx_Pa,syy_Pa,szz_Pa,sxy_Pa,"
+       "kinetic_J_per_m,internal_J_per_m,dissipated_J_per_m,punch_work_J_per_m,ke_ie,extra_contact_N_per_m\n";
+  for (int i = 0; i < s.rows; ++i) {
+    const double e = s.max_strain * i / (s.rows - 1);
+    const double t = e / 250.0;
+    const double sa = synthetic_axial(s, e), sl = k0 * sa;
+    const double ke_ie = e < s.ramp_strain ? 0.3 : 0.01;
+    h << fmt::format("{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,1,1,0,1,{},0\n",
+                     i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl,
+                     -sl * (1 + s.vol_bias), -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke_ie);
+  }
+  std::ofstream r(dir / "run.json");
+  r << fmt::format(R"({{"status": "{}", "code_version": "synthetic", "temperature_K": {}, "ramp_strain": {},
+ "mass_scaling": 100, "specimen": {{"density_kg_m3": {}, "porosity": {}, "tmd_kg_m3": 1942, "width_m": 1e-3,
+ "height_m": 1.2e-3}}, "study": {{"group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}},
+ "unknown_extra": [1, 2, {{"a": null}}]}})",
+                   s.status, s.temperature_K, s.ramp_strain, s.density_kg_m3, s.porosity, s.group, s.temperature_K,
+                   s.density_kg_m3 / 1e3, s.seed);
+}
+
+}  // namespace pbx::test

@@ -1,0 +1,102 @@
+// A report from a small synthetic study directory, and the message for an incomplete one.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "analysis/study_report.hpp"
+#include "core/error.hpp"
+#include "synthetic_run.hpp"
+
+using namespace pbx;
+namespace fs = std::filesystem;
+
+namespace {
+// Paper Table 2 (K, G) and Table 3 (strength) per temperature; Eq. 21-22 per density.
+fs::path make_study(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("pbx_test_study_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir / "runs");
+  std::string runs;
+  struct Row {
+    std::string id, group;
+    double T, rho, K, G, sc;
+    int seed;
+  };
+  std::vector<Row> rows{{"T293_s1", "temperature", 293, 1787, 2.79e9, 1.30e9, 32.8e6, 1},
+                        {"T293_s2", "temperature", 293, 1787, 2.83e9, 1.27e9, 33.4e6, 2},
+                        {"T333_s1", "temperature", 333, 1787, 2.76e9, 1.09e9, 28.2e6, 1},
+                        {"T353_s1", "temperature", 353, 1787, 2.77e9, 0.98e9, 24.1e6, 1},
+                        {"T373_s1", "temperature", 373, 1787, 2.63e9, 0.77e9, 15.6e6, 1}};
+  for (double rho : {1761.0, 1787.0, 1839.0}) {
+    const double x = rho / 1942;
+    rows.push_back({fmt::format("rho{:.0f}_s1", rho), "density", 293, rho, 10.52e9 * 0.696 * std::pow(x, 12.01),
+                    10.84e9 * 0.318 * std::pow(x, 12.11), 32.8e6 * std::pow(x / 0.9202, 6), 1});
+  }
+  for (const auto& r : rows) {
+    test::SyntheticRun s;
+    s.K = r.K;
+    s.G = r.G;
+    s.strength_scale = r.sc;
+    s.temperature_K = r.T;
+    s.density_kg_m3 = r.rho;
+    s.porosity = 1 - r.rho / 1942;
+    s.group = r.group;
+    s.seed = r.seed;
+    s.rows = 241;
+    test::write_synthetic_run(dir / "runs" / r.id, s);
+    runs += fmt::format(R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}})",
+                        runs.empty() ? "" : ",\n  ", r.id, r.id, r.group, r.T, r.rho / 1e3, r.seed);
+  }
+  std::ofstream(dir / "study.json") << "{\"name\": \"synthetic\", \"runs\": [\n  " << runs << "]}\n";
+  return dir;
+}
+const ReportOptions kOptions;
+}  // namespace
+
+TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
+  const fs::path dir = make_study("complete");
+  const std::string out = build_report(dir.string(), kOptions);
+  EXPECT_EQ(fs::path(out), dir / "report");
+  for (const char* f : {"fits.json", "report.md", "report.html", "table2_moduli_vs_temperature.csv",
+                        "table3_strength_vs_temperature.csv", "moduli_vs_density.csv", "fitted_constants.csv",
+                        "model_card.json", "model_card_curves.csv", "fig2_curves_vs_temperature.png",
+                        "fig2_curves_vs_temperature.svg", "fig3_moduli_vs_temperature.png", "fig4_strength_vs_temperature.png",
+                        "fig5_normalized_curves.png", "fig6_eq15_vs_simulation.png", "fig7_curves_vs_density.png",
+                        "fig8_moduli_vs_density.png", "fig9_density_law.png", "fig9_density_law.svg"}) {
+    EXPECT_TRUE(fs::exists(dir / "report" / f)) << f;
+  }
+  std::ifstream md(dir / "report" / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("2.357"), std::string::npos);
+  EXPECT_NE(text.find("reproduced by neither"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "runs" / "T333_s1" / "analysis.json"));
+}
+
+TEST(StudyReport, IncompleteStudyNamesWhatIsMissing) {
+  const fs::path dir = make_study("incomplete");
+  fs::remove(dir / "runs" / "T333_s1" / "history.csv");
+  fs::remove_all(dir / "runs" / "rho1839_s1");
+  {
+    std::ofstream r(dir / "runs" / "T353_s1" / "run.json");
+    r << R"({"status": "running"})";
+  }
+  try {
+    build_report(dir.string(), kOptions);
+    FAIL() << "an incomplete study must not give a report";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("runs/T333_s1/history.csv"), std::string::npos) << m;
+    EXPECT_NE(m.find("runs/rho1839_s1/"), std::string::npos) << m;
+    EXPECT_NE(m.find("runs/T353_s1/run.json: status 'running'"), std::string::npos) << m;
+  }
+  EXPECT_FALSE(fs::exists(dir / "report" / "report.md"));
+  fs::remove(dir / "study.json");
+  try {
+    build_report(dir.string(), kOptions);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("study.json: missing"), std::string::npos) << e.what();
+  }
+}
