@@ -1,0 +1,256 @@
+#include "microstructure/packing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "io/deck.hpp"
+#include "microstructure/colouring.hpp"
+#include "microstructure/disk_packer.hpp"
+#include "microstructure/union_area.hpp"
+
+namespace pbx {
+
+double PackingSpec::tmd() const {
+  const double wt = tatb_mass / (tatb_mass + binder_mass), wb = 1.0 - wt;
+  return 1.0 / (wt / tatb_density + wb / binder_density);
+}
+
+double PackingSpec::binder_per_tatb_area() const {
+  return (binder_mass / tatb_mass) * (tatb_density / binder_density);
+}
+
+namespace {
+
+DiameterMode read_mode(const DeckTable& t, double dmin, double dmax) {
+  DiameterMode m;
+  m.mean = t.positive("mean", dim::length);
+  m.spread = t.non_negative("spread", dim::length, 0.0);
+  m.share = t.in_range("share", 0.0, 1.0);
+  if (m.spread == 0 && (m.mean < dmin || m.mean > dmax))
+    t.fail("mean", "lies outside [diameter_min, diameter_max] and spread is 0");
+  if (m.spread > 0) {
+    const auto Phi = [](double z) { return 0.5 * std::erfc(-z / std::numbers::sqrt2); };
+    const double p = Phi((dmax - m.mean) / m.spread) - Phi((dmin - m.mean) / m.spread);
+    if (p < 1e-3)
+      t.fail("mean", fmt::format("only {:.2g} of this normal lies in [diameter_min, diameter_max]: move the mean "
+                                 "into the range or widen the spread", p));
+  }
+  return m;
+}
+
+}  // namespace
+
+PackingSpec read_packing_spec(const DeckTable& t) {
+  PackingSpec s;
+  const auto box = t.quantities("box", dim::length);
+  if (box.size() != 2 || !(box[0] > 0) || !(box[1] > 0)) t.fail("box", "expected two positive lengths [width, height]");
+  s.box = {box[0], box[1]};
+  const long seed = t.integer("seed", 1);
+  if (seed < 0) t.fail("seed", "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+
+  if (t.has("mass_ratio")) {
+    const auto r = t.quantities("mass_ratio", dim::none);
+    if (r.size() != 2) t.fail("mass_ratio", "expected [TATB, binder] parts, e.g. [95, 5]");
+    if (!(r[0] > 0) || !(r[1] > 0)) t.fail("mass_ratio", "both parts must be > 0");
+    s.tatb_mass = r[0];
+    s.binder_mass = r[1];
+  }
+  s.tatb_density = t.positive("tatb_density", dim::density, 1934.0);
+  s.binder_density = t.positive("binder_density", dim::density, 2020.0);
+
+  if (t.has("porosity") == t.has("density")) t.fail("porosity", "give exactly one of porosity and density");
+  if (t.has("porosity")) {
+    s.porosity = t.number("porosity");
+    if (!(s.porosity >= 0 && s.porosity < 1)) t.fail("porosity", fmt::format("must lie in [0, 1) (got {})", s.porosity));
+  } else {
+    const double rho = t.positive("density", dim::density);
+    s.porosity = 1.0 - rho / s.tmd();
+    if (!(s.porosity >= 0))
+      t.fail("density", fmt::format("exceeds the theoretical maximum density {:.4f} g/cm3", s.tmd() / 1000));
+  }
+  s.tolerance = t.in_range("porosity_tolerance", 1e-6, 0.1, 0.002);
+
+  s.sizes.dmin = t.positive("diameter_min", dim::length);
+  s.sizes.dmax = t.positive("diameter_max", dim::length);
+  if (s.sizes.dmin > s.sizes.dmax)
+    t.fail("diameter_min", fmt::format("is larger than diameter_max ({:.4g} > {:.4g} m)", s.sizes.dmin, s.sizes.dmax));
+  if (2 * s.sizes.dmax > std::min(s.box.x(), s.box.y()))
+    t.fail("diameter_max", "must be at most half the smaller box side");
+  s.sizes.modes[0] = read_mode(t.table("coarse"), s.sizes.dmin, s.sizes.dmax);
+  s.sizes.modes[1] = t.has("fine") ? read_mode(t.table("fine"), s.sizes.dmin, s.sizes.dmax) : DiameterMode{};
+  if (std::abs(s.sizes.modes[0].share + s.sizes.modes[1].share - 1.0) > 1e-9)
+    t.fail("coarse", "coarse.share + fine.share must be 1");
+  const std::string by = t.string("share_by", "area");
+  if (by != "area" && by != "count") t.fail("share_by", "expected \"area\" or \"count\"");
+  s.sizes.by_area = by == "area";
+
+  const std::string coat = t.string("coat", "proportional");
+  if (coat != "proportional" && coat != "uniform") t.fail("coat", "expected \"proportional\" or \"uniform\"");
+  s.uniform_coat = coat == "uniform";
+  s.contact_gap = t.non_negative("contact_gap", dim::length, 2e-6);
+  const std::string boundary = t.string("boundary", "periodic");
+  if (boundary != "periodic" && boundary != "walls") t.fail("boundary", "expected \"periodic\" or \"walls\"");
+  s.periodic = boundary == "periodic";
+  const long attempts = t.integer("attempts", 8);
+  if (attempts < 1 || attempts > 1000) t.fail("attempts", "must lie in [1, 1000]");
+  s.attempts = static_cast<int>(attempts);
+  return s;
+}
+
+std::vector<Disk> disks_in_box(const Packing& p, bool coated) {
+  std::vector<Disk> out;
+  for (int g = 0; g < static_cast<int>(p.grains.size()); ++g) {
+    const Grain& gr = p.grains[g];
+    const double r = 0.5 * gr.diameter + (coated ? gr.coat : 0.0);
+    const int reach = p.periodic ? 1 : 0;
+    for (int i = -reach; i <= reach; ++i)
+      for (int j = -reach; j <= reach; ++j) {
+        const Eigen::Vector2d c = gr.centre + Eigen::Vector2d(i * p.box.x(), j * p.box.y());
+        if (c.x() + r <= 0 || c.x() - r >= p.box.x() || c.y() + r <= 0 || c.y() - r >= p.box.y()) continue;
+        out.push_back({c, r, g});
+      }
+  }
+  return out;
+}
+
+namespace {
+
+double union_area(const Packing& p, bool coated) {
+  std::vector<Circle> c;
+  for (const Disk& d : disks_in_box(p, coated)) c.push_back({d.centre, d.radius});
+  return union_area_in_box(c, p.box);
+}
+
+// Coat thickness per unit of the rule (diameter for proportional coats, 1 m for uniform ones).
+void set_coats(Packing& p, bool uniform, double s) {
+  for (auto& g : p.grains) g.coat = uniform ? s : s * g.diameter;
+}
+
+}  // namespace
+
+void measure(Packing& p) {
+  PackingStats& st = p.stats;
+  const double box_area = p.box.prod();
+  if (p.image.nx > 0) {
+    long tatb = 0, binder = 0;
+    for (int l : p.image.label) tatb += l >= 0, binder += l == -1;
+    const double px = p.image.pixel * p.image.pixel;
+    st.tatb_area_fraction = tatb * px / box_area;
+    st.binder_area_fraction = binder * px / box_area;
+  } else {
+    const double tatb = union_area(p, false);
+    st.tatb_area_fraction = tatb / box_area;
+    st.binder_area_fraction = (union_area(p, true) - tatb) / box_area;
+  }
+  st.porosity = 1.0 - st.tatb_area_fraction - st.binder_area_fraction;
+  const double mt = st.tatb_area_fraction * p.tatb_density, mb = st.binder_area_fraction * p.binder_density;
+  st.density = mt + mb;
+  st.tatb_mass_fraction = mt / (mt + mb);
+  st.tmd = 1.0 / (st.tatb_mass_fraction / p.tatb_density + (1.0 - st.tatb_mass_fraction) / p.binder_density);
+  st.coat_min = st.coat_max = p.grains.empty() ? 0.0 : p.grains[0].coat;
+  st.grains_coarse = st.grains_fine = 0;
+  st.colours = 0;
+  for (const auto& g : p.grains) {
+    st.coat_min = std::min(st.coat_min, g.coat);
+    st.coat_max = std::max(st.coat_max, g.coat);
+    st.grains_coarse += g.mode == 0;
+    st.grains_fine += g.mode == 1;
+    st.colours = std::max(st.colours, g.colour + 1);
+  }
+}
+
+Packing generate_packing(const PackingSpec& spec) {
+  const double box_area = spec.box.prod();
+  const double beta = spec.binder_per_tatb_area();
+  // Porosity fixes the TATB area: solids = TATB (1 + beta), whatever shape the binder takes.
+  const double tatb_area = (1.0 - spec.porosity) * box_area / (1.0 + beta);
+  Rng size_rng(spec.seed);
+  const auto sample = sample_diameters(spec.sizes, tatb_area, 0.5 * spec.tolerance * box_area / (1.0 + beta), size_rng);
+
+  std::vector<double> radius, wall_radius;
+  std::vector<int> stage;
+  int fine_seen = 0;
+  for (const auto& s : sample) {
+    radius.push_back(0.5 * s.diameter);
+    wall_radius.push_back(0.5 * s.diameter);
+    // Coarse grains grow first; fine ones then arrive three at a time, each into the roomiest
+    // spot, which packs the voids between coarse grains densely.
+    stage.push_back(s.mode == 0 ? 0 : 1 + fine_seen++ / 3);
+  }
+  DiskPackerOptions opt;
+  opt.periodic = spec.periodic;
+  opt.start_scale = 0.2;
+  opt.growth_steps = 200;
+  opt.sweeps_per_step = 100;
+  opt.candidates = 300;
+
+  DiskPackerResult best;
+  for (int attempt = 0; attempt < spec.attempts; ++attempt) {
+    // Placements differ per attempt; the diameters are the same sample every time.
+    Rng rng(spec.seed * 0x9E3779B97F4A7C15ull + 0xD1B54A32D192ED03ull * (attempt + 1));
+    auto res = pack_disks(radius, wall_radius, stage, spec.box, rng, opt);
+    if (attempt == 0 || res.max_overlap < best.max_overlap || res.overlap_free) best = std::move(res);
+    if (best.overlap_free) break;
+  }
+
+  Packing p;
+  p.box = spec.box;
+  p.periodic = spec.periodic;
+  p.seed = spec.seed;
+  p.tatb_density = spec.tatb_density;
+  p.binder_density = spec.binder_density;
+  p.contact_gap = spec.contact_gap;
+  for (std::size_t i = 0; i < sample.size(); ++i) p.grains.push_back({best.centres[i], sample[i].diameter, 0, 0, sample[i].mode});
+
+  if (!best.overlap_free) {
+    // Best reached: drop the smaller grain of each overlapping pair until none overlaps.
+    std::vector<char> keep(p.grains.size(), 1);
+    for (auto [i, j] : contact_pairs([&] {
+           Packing q = p;
+           q.contact_gap = 0;
+           return q;
+         }())) {
+      const Grain &a = p.grains[i], &b = p.grains[j];
+      Eigen::Vector2d d = b.centre - a.centre;
+      if (p.periodic)
+        for (int k = 0; k < 2; ++k) d[k] -= p.box[k] * std::round(d[k] / p.box[k]);
+      if (!keep[i] || !keep[j] || d.norm() >= 0.5 * (a.diameter + b.diameter)) continue;
+      keep[a.diameter < b.diameter ? i : j] = 0;
+    }
+    double kept = 0;
+    for (std::size_t i = 0; i < keep.size(); ++i)
+      if (keep[i]) kept += 0.25 * std::numbers::pi * p.grains[i].diameter * p.grains[i].diameter;
+    const double reached = 1.0 - (1.0 + beta) * kept / box_area;
+    throw InputError(fmt::format(
+        "packing.porosity: {:.4f} cannot be reached with these grain sizes: after {} attempts the densest "
+        "overlap-free packing found has porosity {:.4f} (TATB area fraction {:.4f}). Raise porosity, add "
+        "attempts, widen [diameter_min, diameter_max] or change the mode shares (a larger size ratio "
+        "between the modes packs denser).",
+        spec.porosity, spec.attempts, reached, kept / box_area));
+  }
+
+  // Coat thickness from the exact mass balance: union(coats) - TATB = beta * TATB. The union area
+  // grows monotonically with the coat, so bisection converges to round-off.
+  const double tatb = union_area(p, false);
+  const double target = (1.0 + beta) * tatb;
+  double lo = 0, hi = spec.uniform_coat ? 0.5 * spec.sizes.dmin : 0.5;
+  for (int k = 0; k < 200 && hi - lo > 1e-15 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    set_coats(p, spec.uniform_coat, mid);
+    (union_area(p, true) < target ? lo : hi) = mid;
+  }
+  set_coats(p, spec.uniform_coat, 0.5 * (lo + hi));
+  colour_grains(p);
+  measure(p);
+  if (std::abs(p.stats.porosity - spec.porosity) > spec.tolerance)
+    throw InputError(fmt::format("packing.porosity: reached {:.5f} instead of {:.5f} (tolerance {})",
+                                 p.stats.porosity, spec.porosity, spec.tolerance));
+  return p;
+}
+
+}  // namespace pbx

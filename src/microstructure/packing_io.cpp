@@ -1,0 +1,193 @@
+// packing.csv (one row per grain, the header comments carry the box and phase data needed to read
+// it back), packing.json (achieved statistics, for people and reports), packing.png (picture like
+// the paper's Fig. 1a) and, for imported packings, phases.png (16-bit label map).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "microstructure/packing.hpp"
+#include "microstructure/phase_map.hpp"
+#include "microstructure/png_image.hpp"
+
+namespace pbx {
+
+namespace {
+
+// Grain tints by contact colour (TATB is yellow in micrographs): distinct, all light.
+constexpr std::uint8_t kPalette[][3] = {{240, 200, 60},  {230, 140, 50}, {200, 220, 90}, {250, 225, 140},
+                                        {215, 170, 90},  {245, 180, 110}, {190, 190, 60}, {255, 210, 170}};
+
+RgbImage picture(const Packing& p) {
+  const double px = p.box.maxCoeff() / 1200.0;
+  RgbImage img;
+  img.width = static_cast<int>(std::lround(p.box.x() / px));
+  img.height = static_cast<int>(std::lround(p.box.y() / px));
+  img.rgb.assign(static_cast<std::size_t>(img.width) * img.height * 3, 255);
+  PhaseMap map(p);
+  for (int j = 0; j < img.height; ++j)
+    for (int i = 0; i < img.width; ++i) {
+      const PhaseHit h = map.at({(i + 0.5) * px, (img.height - j - 0.5) * px});
+      std::uint8_t* c = &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)];
+      if (h.phase == Phase::tatb) {
+        const int col = p.grains[h.grain].colour;
+        std::copy_n(kPalette[col % 8], 3, c);
+      } else if (h.phase == Phase::binder) {
+        c[0] = 30, c[1] = 90, c[2] = 40;
+      }
+    }
+  return img;
+}
+
+std::string json_number(double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : "null"; }
+
+}  // namespace
+
+void write_packing(const Packing& p, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const auto path = [&](const char* f) { return (std::filesystem::path(dir) / f).string(); };
+  {
+    std::ofstream csv(path("packing.csv"));
+    if (!csv) throw InputError(fmt::format("cannot write '{}'", path("packing.csv")));
+    csv << fmt::format("# pbxmpm packing {} ({})\n", PBXMPM_VERSION, PBXMPM_GIT);
+    csv << fmt::format("# box_width_m = {:.17g}\n# box_height_m = {:.17g}\n", p.box.x(), p.box.y());
+    csv << fmt::format("# periodic = {}\n# seed = {}\n", p.periodic ? 1 : 0, p.seed);
+    csv << fmt::format("# tatb_density_kg_m3 = {:.17g}\n# binder_density_kg_m3 = {:.17g}\n", p.tatb_density,
+                       p.binder_density);
+    csv << fmt::format("# contact_gap_m = {:.17g}\n", p.contact_gap);
+    if (p.image.nx > 0)
+      csv << fmt::format("# image_nx = {}\n# image_ny = {}\n# image_pixel_m = {:.17g}\n", p.image.nx, p.image.ny,
+                         p.image.pixel);
+    csv << "grain,x_m,y_m,diameter_m,coat_m,colour,mode\n";
+    for (std::size_t i = 0; i < p.grains.size(); ++i) {
+      const Grain& g = p.grains[i];
+      csv << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{},{}\n", i, g.centre.x(), g.centre.y(), g.diameter,
+                         g.coat, g.colour, g.mode);
+    }
+  }
+  {
+    const PackingStats& s = p.stats;
+    // Diameter histogram: 25 um bins from 0 to the largest grain.
+    double dmax = 0;
+    for (const auto& g : p.grains) dmax = std::max(dmax, g.diameter);
+    const double bin = 25e-6;
+    std::vector<int> hist(static_cast<std::size_t>(std::floor(dmax / bin)) + 1, 0);
+    for (const auto& g : p.grains) ++hist[static_cast<std::size_t>(std::floor(g.diameter / bin))];
+    std::string h;
+    for (std::size_t k = 0; k < hist.size(); ++k)
+      h += fmt::format("{}{{\"from_um\": {}, \"to_um\": {}, \"count\": {}}}", k ? ", " : "", k * 25, (k + 1) * 25,
+                       hist[k]);
+    std::ofstream js(path("packing.json"));
+    js << "{\n";
+    js << fmt::format("  \"code_version\": \"pbxmpm {} ({})\",\n", PBXMPM_VERSION, PBXMPM_GIT);
+    js << fmt::format("  \"source\": \"{}\",\n  \"seed\": {},\n  \"periodic\": {},\n", p.source, p.seed,
+                      p.periodic ? "true" : "false");
+    js << fmt::format("  \"box_m\": [{}, {}],\n", json_number(p.box.x()), json_number(p.box.y()));
+    js << fmt::format("  \"porosity\": {},\n", json_number(s.porosity));
+    js << fmt::format("  \"density_kg_m3\": {},\n  \"tmd_kg_m3\": {},\n", json_number(s.density), json_number(s.tmd));
+    js << fmt::format("  \"tatb_density_kg_m3\": {},\n  \"binder_density_kg_m3\": {},\n",
+                      json_number(p.tatb_density), json_number(p.binder_density));
+    js << fmt::format("  \"tatb_area_fraction\": {},\n  \"binder_area_fraction\": {},\n",
+                      json_number(s.tatb_area_fraction), json_number(s.binder_area_fraction));
+    js << fmt::format("  \"tatb_mass_fraction\": {},\n  \"binder_mass_fraction\": {},\n",
+                      json_number(s.tatb_mass_fraction), json_number(1.0 - s.tatb_mass_fraction));
+    js << fmt::format("  \"grains\": {},\n  \"grains_coarse\": {},\n  \"grains_fine\": {},\n", p.grains.size(),
+                      s.grains_coarse, s.grains_fine);
+    js << fmt::format("  \"coat_min_m\": {},\n  \"coat_max_m\": {},\n", json_number(s.coat_min),
+                      json_number(s.coat_max));
+    js << fmt::format("  \"colours\": {},\n  \"contact_gap_m\": {},\n", s.colours, json_number(p.contact_gap));
+    js << fmt::format("  \"diameter_histogram\": [{}]\n", h);
+    js << "}\n";
+  }
+  write_png(path("packing.png"), picture(p));
+  if (p.image.nx > 0) {
+    std::vector<std::uint16_t> grey(p.image.label.size());
+    // Stored top row first like any PNG; labels shifted by 2 so void (-2) is 0.
+    for (int j = 0; j < p.image.ny; ++j)
+      for (int i = 0; i < p.image.nx; ++i)
+        grey[static_cast<std::size_t>(p.image.ny - 1 - j) * p.image.nx + i] =
+            static_cast<std::uint16_t>(p.image.label[static_cast<std::size_t>(j) * p.image.nx + i] + 2);
+    write_png16(path("phases.png"), p.image.nx, p.image.ny, grey);
+  }
+}
+
+Packing read_packing(const std::string& dir) {
+  const std::string file = (std::filesystem::path(dir) / "packing.csv").string();
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("cannot open packing '{}'", file));
+  Packing p;
+  std::string line;
+  int lineno = 0;
+  bool header = false;
+  auto bad = [&](const std::string& what) {
+    throw InputError(fmt::format("{}:{}: {}", file, lineno, what));
+  };
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      const auto eq = line.find('=');
+      if (eq == std::string::npos) continue;
+      std::string key = line.substr(1, eq - 1);
+      key.erase(0, key.find_first_not_of(' '));
+      key.erase(key.find_last_not_of(' ') + 1);
+      const std::string val = line.substr(eq + 1);
+      try {
+        if (key == "box_width_m") p.box.x() = std::stod(val);
+        else if (key == "box_height_m") p.box.y() = std::stod(val);
+        else if (key == "periodic") p.periodic = std::stoi(val) != 0;
+        else if (key == "seed") p.seed = std::stoull(val);
+        else if (key == "tatb_density_kg_m3") p.tatb_density = std::stod(val);
+        else if (key == "binder_density_kg_m3") p.binder_density = std::stod(val);
+        else if (key == "contact_gap_m") p.contact_gap = std::stod(val);
+        else if (key == "image_nx") p.image.nx = std::stoi(val);
+        else if (key == "image_ny") p.image.ny = std::stoi(val);
+        else if (key == "image_pixel_m") p.image.pixel = std::stod(val);
+      } catch (const std::exception&) {
+        bad("cannot read the value of '" + key + "'");
+      }
+      continue;
+    }
+    if (!header) {
+      if (line != "grain,x_m,y_m,diameter_m,coat_m,colour,mode") bad("unexpected column header");
+      header = true;
+      continue;
+    }
+    std::stringstream ss(line);
+    std::string f[7];
+    for (auto& x : f)
+      if (!std::getline(ss, x, ',')) bad("expected 7 columns");
+    try {
+      Grain g;
+      g.centre = {std::stod(f[1]), std::stod(f[2])};
+      g.diameter = std::stod(f[3]);
+      g.coat = std::stod(f[4]);
+      g.colour = std::stoi(f[5]);
+      g.mode = std::stoi(f[6]);
+      if (!(g.diameter > 0) || !(g.coat >= 0) || g.colour < 0) bad("diameter, coat or colour out of range");
+      p.grains.push_back(g);
+    } catch (const std::invalid_argument&) {
+      bad("not a number");
+    }
+  }
+  if (!(p.box.x() > 0 && p.box.y() > 0) || !(p.tatb_density > 0) || !(p.binder_density > 0))
+    throw InputError(fmt::format("{}: the header lacks the box size or the phase densities", file));
+  if (p.image.nx > 0) {
+    p.source = "image";
+    int w = 0, h = 0;
+    const auto grey = read_png16((std::filesystem::path(dir) / "phases.png").string(), w, h);
+    if (w != p.image.nx || h != p.image.ny) throw InputError(fmt::format("{}: phases.png size differs", file));
+    p.image.label.resize(grey.size());
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        p.image.label[static_cast<std::size_t>(j) * w + i] = grey[static_cast<std::size_t>(h - 1 - j) * w + i] - 2;
+  }
+  measure(p);
+  return p;
+}
+
+}  // namespace pbx
