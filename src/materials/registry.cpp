@@ -20,6 +20,15 @@ template <int D>
 const std::map<std::string, Factory<D>>& registry() {
   static const std::map<std::string, Factory<D>> r = {
       {"linear_elastic", make_linear_elastic<D>},
+      {"elastic_linear", make_solid<D, ElasticDeviator, LinearBulkEos>},
+      {"elastic_mie_gruneisen", make_solid<D, ElasticDeviator, MieGruneisenEos>},
+      {"elastic_tait", make_solid<D, ElasticDeviator, TaitEos>},
+      {"j2_linear", make_solid<D, J2Deviator, LinearBulkEos>},
+      {"j2_mie_gruneisen", make_solid<D, J2Deviator, MieGruneisenEos>},  // TATB (paper Eq. 8-9)
+      {"j2_tait", make_solid<D, J2Deviator, TaitEos>},
+      {"viscoelastic_linear", make_solid<D, PronyDeviator, LinearBulkEos>},
+      {"viscoelastic_mie_gruneisen", make_solid<D, PronyDeviator, MieGruneisenEos>},
+      {"viscoelastic_tait", make_solid<D, PronyDeviator, TaitEos>},  // F2314 (paper Eq. 10-11)
       // registry lines for further models go here
   };
   return r;

@@ -1,0 +1,68 @@
+// Deck reading for composed materials: the keys common to every composition, the strict check of
+// unknown keys (so the point driver, which reads only one table of a run deck, still rejects
+// typos), and the explicit instantiations of every registered composition.
+#include "materials/solid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "core/error.hpp"
+#include "eos/linear_bulk.hpp"
+#include "eos/mie_gruneisen.hpp"
+#include "eos/tait.hpp"
+#include "io/deck.hpp"
+#include "materials/elastic_deviator.hpp"
+#include "materials/j2_deviator.hpp"
+#include "materials/models.hpp"
+#include "materials/prony_deviator.hpp"
+
+namespace pbx {
+
+std::vector<std::string> solid_common_keys() {
+  return {"model", "density", "reference_temperature", "thermal_expansion"};
+}
+
+SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx) {
+  SolidSetup s;
+  s.name = ctx.name.empty() ? t.path() : ctx.name;
+  s.temperature = ctx.temperature;
+  if (!(s.temperature > 0.0 && std::isfinite(s.temperature)))
+    throw InputError(fmt::format("material '{}': temperature must be > 0 K (got {})", s.name, s.temperature));
+  s.reference_temperature = t.positive("reference_temperature", dim::temperature, 293.0);
+  const double rho_ref = t.positive("density", dim::density);
+  const double alpha_v = t.quantity("thermal_expansion", dim::per_temperature, 0.0);
+  s.density = rho_ref * std::exp(-alpha_v * (s.temperature - s.reference_temperature));
+  return s;
+}
+
+template <int D, class Dev, class Eos>
+std::unique_ptr<Material<D>> make_solid(const DeckTable& t, const MaterialContext& ctx) {
+  auto allowed = solid_common_keys();
+  for (auto& k : Dev::keys()) allowed.push_back(k);
+  for (auto& k : Eos::keys()) allowed.push_back(k);
+  for (const auto& k : t.keys())
+    if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
+      t.fail(k, fmt::format("unknown key for model '{}' (known: {})", Solid<D, Dev, Eos>::model_name(),
+                            fmt::join(allowed, ", ")));
+  const SolidSetup s = read_solid_setup(t, ctx);
+  return std::make_unique<Solid<D, Dev, Eos>>(s, Dev::from_deck(t, s), Eos::from_deck(t, s));
+}
+
+#define PBX_SOLID(DEV, EOS)                                                                        \
+  template std::unique_ptr<Material<2>> make_solid<2, DEV, EOS>(const DeckTable&, const MaterialContext&); \
+  template std::unique_ptr<Material<3>> make_solid<3, DEV, EOS>(const DeckTable&, const MaterialContext&);
+PBX_SOLID(ElasticDeviator, LinearBulkEos)
+PBX_SOLID(ElasticDeviator, MieGruneisenEos)
+PBX_SOLID(ElasticDeviator, TaitEos)
+PBX_SOLID(J2Deviator, LinearBulkEos)
+PBX_SOLID(J2Deviator, MieGruneisenEos)
+PBX_SOLID(J2Deviator, TaitEos)
+PBX_SOLID(PronyDeviator, LinearBulkEos)
+PBX_SOLID(PronyDeviator, MieGruneisenEos)
+PBX_SOLID(PronyDeviator, TaitEos)
+#undef PBX_SOLID
+
+}  // namespace pbx
