@@ -1,8 +1,267 @@
-// Placeholder registration; the sub-commands of this file are added by their module's issue.
-#include <CLI/CLI.hpp>
+// pbxmpm analyze / fit / report: the analysis of run and study directories (src/analysis).
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
 
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "analysis/csv_table.hpp"
+#include "analysis/density_law.hpp"
+#include "analysis/normalized_curve_law.hpp"
+#include "analysis/run_analysis.hpp"
+#include "analysis/study_fits.hpp"
+#include "analysis/study_report.hpp"
+#include "analysis/temperature_law.hpp"
 #include "app/commands.hpp"
+#include "core/error.hpp"
+#include "core/units.hpp"
+#include "io/deck.hpp"
 
 namespace pbx::app {
-void register_analysis(CLI::App&) {}
+
+namespace {
+
+// "lo:hi" -> two numbers, or InputError naming the option.
+std::pair<double, double> range_option(const std::string& text, const std::string& option) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) throw InputError(fmt::format("{}: expected LO:HI, got '{}'", option, text));
+  try {
+    return {std::stod(text.substr(0, colon)), std::stod(text.substr(colon + 1))};
+  } catch (const std::exception&) {
+    throw InputError(fmt::format("{}: expected two numbers LO:HI, got '{}'", option, text));
+  }
+}
+
+double quantity_option(const std::string& text, const Dimension& d, const std::string& option) {
+  return to_si(text, d, option);
+}
+
+void print_fit(const FitResult& f) {
+  fmt::print("{}\n  method: {}\n", f.model, f.method);
+  for (const auto& p : f.params) {
+    fmt::print("  {:>8} = {:.6g} {}  ({:.0f} % CI [{:.6g}, {:.6g}], SE {:.3g})\n", p.name, p.value, p.unit,
+               100 * f.confidence, p.ci_low, p.ci_high, p.std_error);
+  }
+  fmt::print("  n = {}, dof = {}, SSE = {:.6g}, R^2 = {:.6f}{}\n", f.n, f.dof, f.sse, f.r2,
+             f.note.empty() ? "" : "\n  note: " + f.note);
+}
+
+std::vector<double> scaled_column(const CsvTable& t, const std::string& name) {
+  std::vector<double> v = t.column(name);
+  const double s = column_unit_factor(name);
+  for (auto& x : v) x *= s;
+  return v;
+}
+
+struct AnalyzeArgs {
+  std::string dir, window, plateau, options_file;
+  double strength_strain = 0, tolerance = 0, ke_ie = -1;
+  bool allow_unfinished = false;
+};
+
+AnalysisOptions analysis_options(const AnalyzeArgs& a) {
+  AnalysisOptions o;
+  if (!a.options_file.empty()) {
+    Deck deck = Deck::from_file(a.options_file);
+    if (auto t = deck.root().optional_table("analysis")) o = AnalysisOptions::from_deck(*t);
+    deck.check_unused();
+  }
+  if (!a.window.empty()) {
+    auto [lo, hi] = range_option(a.window, "--window");
+    o.window_lo = lo;
+    o.window_hi = hi;
+  }
+  if (!a.plateau.empty()) {
+    auto [lo, hi] = range_option(a.plateau, "--plateau");
+    o.plateau_lo = lo;
+    o.plateau_hi = hi;
+  }
+  if (a.strength_strain > 0) o.strength_max_strain = a.strength_strain;
+  if (a.tolerance > 0) o.window_tolerance = a.tolerance;
+  if (a.ke_ie >= 0) o.ke_ie_limit = a.ke_ie;
+  o.allow_unfinished = a.allow_unfinished;
+  o.validate();
+  return o;
+}
+
+void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
+  c->add_option("--window", a.window, "linear window LO:HI in strain (default: found automatically)");
+  c->add_option("--plateau", a.plateau, "plateau window LO:HI in strain for the yield intersection");
+  c->add_option("--strength-strain", a.strength_strain, "compression strength = max stress up to this strain (default 0.03)");
+  c->add_option("--window-tolerance", a.tolerance, "automatic window: allowed drop of the end tangent (default 0.10)");
+  c->add_option("--ke-ie-limit", a.ke_ie, "flag runs whose KE/IE exceeds this after the ramp (default 0.05)");
+  c->add_option("--options", a.options_file, "TOML file with an [analysis] table (docs/deck/analysis.md)");
+  c->add_flag("--allow-unfinished", a.allow_unfinished, "analyse runs whose run.json status is not 'finished'");
+}
+
+}  // namespace
+
+void register_analysis(CLI::App& app) {
+  // ---- analyze ----
+  auto aa = std::make_shared<AnalyzeArgs>();
+  auto* an = app.add_subcommand("analyze", "analyse a run directory (history.csv, run.json) into analysis.json");
+  an->add_option("RUN_DIR", aa->dir, "run directory")->required();
+  add_analysis_flags(an, *aa);
+  an->callback([aa] {
+    const Json j = analyze_run_to_file(aa->dir, analysis_options(*aa));
+    auto n = [&](std::initializer_list<const char*> path) {
+      const Json* p = &j;
+      for (auto k : path) p = p ? p->find(k) : nullptr;
+      return p && p->is_number() ? p->as_number() : std::nan("");
+    };
+    fmt::print("linear window: strain {:.4g} .. {:.4g} ({} points)\n", n({"linear_window", "lo"}),
+               n({"linear_window", "hi"}), n({"linear_window", "points"}));
+    fmt::print("M = {:.4g} GPa, lambda = {:.4g} GPa, K = {:.4g} GPa, G = {:.4g} GPa, E = {:.4g} GPa, nu = {:.4f}\n",
+               n({"moduli", "M_Pa"}) / 1e9, n({"moduli", "lambda_Pa"}) / 1e9, n({"moduli", "K_Pa"}) / 1e9,
+               n({"moduli", "G_Pa"}) / 1e9, n({"moduli", "E_Pa"}) / 1e9, n({"moduli", "nu"}));
+    fmt::print("strength = {:.4g} MPa at strain {:.4g}; yield = {:.4g} MPa at strain {:.4g}\n",
+               n({"strength", "strength_Pa"}) / 1e6, n({"strength", "strain_at_strength"}),
+               n({"strength", "yield_stress_Pa"}) / 1e6, n({"strength", "yield_strain"}));
+    fmt::print("punch vs volume-average stress: rms difference {:.3g} % of max\n",
+               100 * n({"agreement", "punch_vs_minus_syy", "rms_relative"}));
+    for (const auto& w : j.find("warnings")->as_array()) fmt::print("warning: {}\n", w.as_string());
+    fmt::print("wrote {}/analysis.json\n", aa->dir);
+  });
+
+  // ---- fit ----
+  auto* fit = app.add_subcommand("fit", "fit the paper's constitutive equations to a CSV file or a study");
+  fit->require_subcommand(1);
+
+  struct FitArgs {
+    std::string csv, out, x, y, y2, window = "0.5:3", T0 = "293 K", rho0 = "1942 kg/m3", GU = "10.84 GPa",
+                                    KU = "10.52 GPa", strength;
+    double confidence = 0.95;
+  };
+  auto fa = std::make_shared<FitArgs>();
+  auto write_out = [fa](const Json& j) {
+    if (fa->out.empty()) return;
+    j.write_file(fa->out);
+    fmt::print("wrote {}\n", fa->out);
+  };
+
+  auto* ft = fit->add_subcommand("temperature", "Eq. 13, sigma_c = sigma0 exp(alpha (1 - T/T0)), both methods");
+  ft->add_option("CSV", fa->csv, "CSV file with a header line")->required();
+  ft->add_option("--T-col", fa->x, "temperature column (K)")->default_val("T_K");
+  ft->add_option("--strength-col", fa->y, "strength column; unit from its suffix (_Pa, _MPa, _GPa)")->default_val("strength_MPa");
+  ft->add_option("--T0", fa->T0, "reference temperature")->default_val("293 K");
+  ft->add_option("--confidence", fa->confidence, "confidence level of the intervals")->default_val(0.95);
+  ft->add_option("--out", fa->out, "write the fits as JSON");
+  ft->callback([fa, write_out] {
+    const CsvTable t = CsvTable::read(fa->csv);
+    const auto T = t.column(fa->x);
+    const auto s = scaled_column(t, fa->y);
+    const double T0 = quantity_option(fa->T0, dim::temperature, "--T0");
+    const FitResult nl = fit_temperature_law_nonlinear(T, s, T0, fa->confidence);
+    const FitResult ll = fit_temperature_law_loglinear(T, s, T0, fa->confidence);
+    print_fit(nl);
+    print_fit(ll);
+    Json j = Json::object();
+    j.set("nonlinear", nl.to_json());
+    j.set("loglinear", ll.to_json());
+    write_out(j);
+  });
+
+  auto* fc = fit->add_subcommand("curve", "Eq. 14, sigma_n = A e + B e^n (e in percent), on the plateau window");
+  fc->add_option("CSV", fa->csv, "CSV file with a header line (e.g. a history.csv)")->required();
+  fc->add_option("--strain-col", fa->x, "strain column (fraction; '_percent' suffix for percent)")->default_val("strain");
+  fc->add_option("--stress-col", fa->y, "stress column, compression positive; unit from its suffix")->default_val("punch_stress_Pa");
+  fc->add_option("--strength", fa->strength, "sigma_c used to normalise (e.g. '32.8 MPa'); default: max stress in the window");
+  fc->add_option("--window", fa->window, "fitting window LO:HI in percent strain")->default_val("0.5:3");
+  fc->add_option("--confidence", fa->confidence, "confidence level of the intervals")->default_val(0.95);
+  fc->add_option("--out", fa->out, "write the fit as JSON");
+  fc->callback([fa, write_out] {
+    const CsvTable t = CsvTable::read(fa->csv);
+    const auto e = scaled_column(t, fa->x);
+    const auto s = scaled_column(t, fa->y);
+    auto [lo, hi] = range_option(fa->window, "--window");
+    std::vector<double> ep, sp;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      if (100 * e[i] >= lo && 100 * e[i] <= hi && std::isfinite(s[i])) {
+        ep.push_back(100 * e[i]);
+        sp.push_back(s[i]);
+      }
+    }
+    double sc = 0;
+    if (!fa->strength.empty()) {
+      sc = quantity_option(fa->strength, dim::pressure, "--strength");
+    } else {
+      for (double x : sp) sc = std::max(sc, x);
+    }
+    if (!(sc > 0)) throw InputError("--strength: the normalising stress must be > 0");
+    for (auto& x : sp) x /= sc;
+    const FitResult f = fit_normalized_curve(ep, sp, fa->confidence);
+    fmt::print("normalised by sigma_c = {:.6g} Pa; window {} .. {} % strain\n", sc, lo, hi);
+    print_fit(f);
+    Json j = f.to_json();
+    j.set("sigma_c_Pa", sc);
+    j.set("window_percent", Json::numbers({lo, hi}));
+    write_out(j);
+  });
+
+  auto* fd = fit->add_subcommand("density", "Eq. 19-22, M/M^U = k (rho/rho0)^n for G and K");
+  fd->add_option("CSV", fa->csv, "CSV file with a header line")->required();
+  fd->add_option("--density-col", fa->x, "density column (_g_cm3 or _kg_m3 suffix)")->default_val("density_g_cm3");
+  fd->add_option("--G-col", fa->y, "shear modulus column (unit suffix)")->default_val("G_GPa");
+  fd->add_option("--K-col", fa->y2, "bulk modulus column (unit suffix)")->default_val("K_GPa");
+  fd->add_option("--rho0", fa->rho0, "theoretical maximum density")->default_val("1942 kg/m3");
+  fd->add_option("--GU", fa->GU, "upper-bound shear modulus G^U")->default_val("10.84 GPa");
+  fd->add_option("--KU", fa->KU, "upper-bound bulk modulus K^U")->default_val("10.52 GPa");
+  fd->add_option("--confidence", fa->confidence, "confidence level of the intervals")->default_val(0.95);
+  fd->add_option("--out", fa->out, "write the fits as JSON");
+  fd->callback([fa, write_out] {
+    const CsvTable t = CsvTable::read(fa->csv);
+    const auto rho = scaled_column(t, fa->x);
+    const double rho0 = quantity_option(fa->rho0, dim::density, "--rho0");
+    const double GU = quantity_option(fa->GU, dim::pressure, "--GU"), KU = quantity_option(fa->KU, dim::pressure, "--KU");
+    Json j = Json::object();
+    if (t.has(fa->y)) {
+      const FitResult g = fit_density_law(rho, scaled_column(t, fa->y), rho0, GU, fa->confidence);
+      fmt::print("G: ");
+      print_fit(g);
+      j.set("G", g.to_json());
+    }
+    if (t.has(fa->y2)) {
+      const FitResult k = fit_density_law(rho, scaled_column(t, fa->y2), rho0, KU, fa->confidence);
+      fmt::print("K: ");
+      print_fit(k);
+      j.set("K", k.to_json());
+    }
+    if (!t.has(fa->y) && !t.has(fa->y2)) {
+      throw InputError(fmt::format("{}: neither --G-col '{}' nor --K-col '{}' is a column", fa->csv, fa->y, fa->y2));
+    }
+    write_out(j);
+  });
+
+  auto sa = std::make_shared<AnalyzeArgs>();
+  auto* fs = fit->add_subcommand("study", "analyse every run of a study and fit it (writes fits.json)");
+  fs->add_option("STUDY_DIR", sa->dir, "study directory (study.json, runs/)")->required();
+  fs->add_option("--out", fa->out, "output file (default STUDY_DIR/fits.json)");
+  add_analysis_flags(fs, *sa);
+  fs->callback([sa, fa] {
+    StudyFitOptions o;
+    o.analysis = analysis_options(*sa);
+    const Json j = fit_study(load_study(sa->dir, o), o);
+    const std::string out = fa->out.empty() ? sa->dir + "/fits.json" : fa->out;
+    j.write_file(out);
+    fmt::print("wrote {}\n", out);
+  });
+
+  // ---- report ----
+  auto ra = std::make_shared<AnalyzeArgs>();
+  auto ro = std::make_shared<ReportOptions>();
+  auto* rep = app.add_subcommand("report", "build STUDY_DIR/report/: figures, tables beside the paper, model card");
+  rep->add_option("STUDY_DIR", ra->dir, "finished study directory (study.json, runs/<id>/)")->required();
+  rep->add_option("--out", ro->out_dir, "report directory (default STUDY_DIR/report)");
+  rep->add_flag("--reuse-analysis", ro->fits.reuse_analysis, "use the runs' existing analysis.json files");
+  rep->add_option("--python", ro->python, "Python interpreter with numpy and matplotlib")->default_val("/usr/bin/python3");
+  add_analysis_flags(rep, *ra);
+  rep->callback([ra, ro] {
+    ro->fits.analysis = analysis_options(*ra);
+    const std::string out = build_report(ra->dir, *ro);
+    fmt::print("report written to {}/report.html (and report.md)\n", out);
+  });
+}
+
 }  // namespace pbx::app

@@ -1,0 +1,546 @@
+#!/usr/bin/python3
+"""Builds STUDY/report/ from a finished, analysed study: figures in the spirit of the paper's
+Fig. 1b-9 (PNG + SVG), tables beside the paper's numbers (Markdown, HTML, CSV) and the macroscale
+model card. Called by `pbxmpm report STUDY` after it has written every run's analysis.json and
+report/fits.json; it reads only those files, study.json and the runs' last snapshot (Fig. 1b).
+
+Usage: /usr/bin/python3 make_report.py STUDY --out STUDY/report --paper-values paper_values.toml
+"""
+import argparse
+import csv
+import glob
+import html
+import json
+import math
+import os
+import sys
+import tomllib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+NAN = float("nan")
+
+
+def fail(msg):
+    print(f"make_report: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def get(d, *path, default=NAN):
+    for k in path:
+        if not isinstance(d, dict) or k not in d or d[k] is None:
+            return default
+        d = d[k]
+    return d
+
+
+def fmt(x, digits=3):
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "-"
+    return f"{x:.{digits}g}"
+
+
+def ratio(ours, paper):
+    if ours is None or paper is None or not math.isfinite(ours) or not paper:
+        return NAN
+    return ours / paper
+
+
+class Report:
+    """Collects sections, then writes report.md and report.html from the same content."""
+
+    def __init__(self, out):
+        self.out = out
+        self.blocks = []  # (kind, payload)
+
+    def h(self, text, level=2):
+        self.blocks.append(("h", (level, text)))
+
+    def p(self, text):
+        self.blocks.append(("p", text))
+
+    def table(self, name, header, rows, caption):
+        with open(os.path.join(self.out, name + ".csv"), "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(header)
+            for r in rows:
+                w.writerow(["" if (isinstance(v, float) and not math.isfinite(v)) else v for v in r])
+        self.blocks.append(("table", (header, rows, caption, name + ".csv")))
+
+    def figure(self, fig, name, caption):
+        for ext in ("png", "svg"):
+            fig.savefig(os.path.join(self.out, f"{name}.{ext}"), dpi=110, bbox_inches="tight")
+        plt.close(fig)
+        self.blocks.append(("fig", (name, caption)))
+
+    @staticmethod
+    def cell(v):
+        return fmt(v, 4) if isinstance(v, float) else str(v)
+
+    def write(self, title):
+        md = [f"# {title}", ""]
+        body = []
+        for kind, x in self.blocks:
+            if kind == "h":
+                md += ["#" * x[0] + " " + x[1], ""]
+                body.append(f"<h{x[0]}>{html.escape(x[1])}</h{x[0]}>")
+            elif kind == "p":
+                md += [x, ""]
+                body.append(f"<p>{html.escape(x)}</p>")
+            elif kind == "table":
+                header, rows, caption, csvname = x
+                md += [f"**{caption}** ([{csvname}]({csvname}))", ""]
+                md.append("| " + " | ".join(header) + " |")
+                md.append("|" + "---|" * len(header))
+                for r in rows:
+                    md.append("| " + " | ".join(self.cell(v) for v in r) + " |")
+                md.append("")
+                t = [f"<table><caption>{html.escape(caption)} (<a href='{csvname}'>CSV</a>)</caption><tr>"]
+                t += [f"<th>{html.escape(h)}</th>" for h in header]
+                t.append("</tr>")
+                for r in rows:
+                    t.append("<tr>" + "".join(f"<td>{html.escape(self.cell(v))}</td>" for v in r) + "</tr>")
+                t.append("</table>")
+                body.append("".join(t))
+            elif kind == "fig":
+                name, caption = x
+                md += [f"![{caption}]({name}.png)", "", f"*{caption}* ([SVG]({name}.svg))", ""]
+                body.append(f"<figure><img src='{name}.png' alt='{html.escape(caption)}'>"
+                            f"<figcaption>{html.escape(caption)} (<a href='{name}.svg'>SVG</a>)</figcaption></figure>")
+        with open(os.path.join(self.out, "report.md"), "w") as f:
+            f.write("\n".join(md) + "\n")
+        style = ("body{font-family:sans-serif;max-width:1100px;margin:auto}table{border-collapse:collapse;margin:1em 0}"
+                 "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}caption{text-align:left;font-weight:bold}"
+                 "img{max-width:100%}")
+        with open(os.path.join(self.out, "report.html"), "w") as f:
+            f.write(f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+                    f"<style>{style}</style></head><body><h1>{html.escape(title)}</h1>\n" + "\n".join(body) +
+                    "\n</body></html>\n")
+
+
+def load(study_dir, out):
+    sj = os.path.join(study_dir, "study.json")
+    if not os.path.exists(sj):
+        fail(f"{sj}: missing")
+    with open(sj) as f:
+        study = json.load(f)
+    runs = []
+    missing = []
+    for e in study.get("runs", []):
+        rid = e.get("id") or os.path.basename(e.get("dir", ""))
+        d = os.path.join(study_dir, e.get("dir", f"runs/{rid}"))
+        a = os.path.join(d, "analysis.json")
+        if not os.path.exists(a):
+            missing.append(a)
+            continue
+        with open(a) as f:
+            runs.append({"id": rid, "dir": d, "entry": e, "a": json.load(f)})
+    fits_path = os.path.join(out, "fits.json")
+    if not os.path.exists(fits_path):
+        missing.append(fits_path)
+    if missing:
+        fail("missing (run `pbxmpm report`, which writes them first): " + ", ".join(missing))
+    with open(fits_path) as f:
+        fits = json.load(f)
+    return study, runs, fits
+
+
+def run_T(r):
+    T = r["entry"].get("temperature_K")
+    return T if T is not None else get(r["a"], "temperature_K")
+
+
+def run_group(r):
+    return r["entry"].get("group") or get(r["a"], "study", "group", default="")
+
+
+def stat(cond, key, scale=1.0):
+    m = get(cond, "stats", key, "mean")
+    s = get(cond, "stats", key, "std")
+    return (m * scale if m is not None else NAN), (s * scale if s is not None else NAN)
+
+
+def curve(r):
+    c = r["a"].get("curve", {})
+    e = np.array([NAN if v is None else v for v in c.get("strain", [])], float)
+    p = np.array([NAN if v is None else v for v in c.get("punch_stress_Pa", [])], float)
+    v = np.array([NAN if v is None else v for v in c.get("minus_syy_Pa", [])], float)
+    return e, p, v
+
+
+def eq13(T, s0, a, T0):
+    return s0 * np.exp(a * (1 - np.asarray(T, float) / T0))
+
+
+def eq14(e_pct, A, B, n):
+    e_pct = np.asarray(e_pct, float)
+    return A * e_pct + B * e_pct ** n
+
+
+def par(fit, name):
+    return get(fit, "parameters", name, "value")
+
+
+def ci(fit, name):
+    return get(fit, "parameters", name, "ci_low"), get(fit, "parameters", name, "ci_high")
+
+
+def last_snapshot(run_dir):
+    files = sorted(glob.glob(os.path.join(run_dir, "snapshots", "snap_*.h5")))
+    return files[-1] if files else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("study")
+    ap.add_argument("--out")
+    ap.add_argument("--paper-values", default=os.path.join(os.path.dirname(__file__), "paper_values.toml"))
+    args = ap.parse_args()
+    out = args.out or os.path.join(args.study, "report")
+    os.makedirs(out, exist_ok=True)
+    study, runs, fits = load(args.study, out)
+    with open(args.paper_values, "rb") as f:
+        paper = tomllib.load(f)
+
+    rep = Report(out)
+    conds = fits.get("conditions", [])
+    tconds = sorted([c for c in conds if c.get("group") in ("temperature", "")], key=lambda c: c["temperature_K"])
+    dconds = sorted([c for c in conds if c.get("group") in ("density", "")],
+                    key=lambda c: get(c, "stats", "density_kg_m3", "mean"))
+    truns = [r for r in runs if run_group(r) in ("temperature", "")]
+    druns = [r for r in runs if run_group(r) in ("density", "")]
+    T0 = get(fits, "eq13", "T0_K", default=293.0)
+    nseeds = max([len(c.get("runs", [])) for c in conds] or [1])
+
+    versions = sorted({str(get(r["a"], "code_version", default="?")) for r in runs})
+    rep.p(f"Study '{study.get('name', '?')}': {len(runs)} runs, {len(conds)} conditions, up to {nseeds} seed(s) "
+          f"per condition; code version(s): {', '.join(versions)}. Values are mean ± standard deviation over seeds "
+          f"(std = 0 with one seed). Fitted constants carry {100 * fits.get('confidence', 0.95):.0f} % confidence "
+          "intervals (Student t on the linearised covariance). Paper values are from its Tables 2-3 and Eq. 13-22 "
+          "(tools/report/paper_values.toml); ratio = ours / paper. Definitions: docs/theory/analysis.md.")
+
+    # ---- quality checks ----
+    rep.h("Run checks")
+    rows = []
+    for r in runs:
+        a = r["a"]
+        rows.append([r["id"], fmt(run_T(r), 4), fmt(get(a, "density_kg_m3"), 5),
+                     f"{fmt(get(a, 'linear_window', 'lo'))}-{fmt(get(a, 'linear_window', 'hi'))}",
+                     100 * get(a, "agreement", "punch_vs_minus_syy", "rms_relative"),
+                     100 * get(a, "agreement", "M_relative_difference"),
+                     get(a, "quasi_static", "ke_ie_max_after_ramp"),
+                     "YES" if get(a, "quasi_static", "flagged", default=False) else "no"])
+    rep.table("run_checks", ["run", "T_K", "density_kg_m3", "linear_window_strain", "punch_vs_volume_rms_percent",
+                             "M_volume_vs_punch_percent", "ke_ie_max_after_ramp", "ke_ie_flagged"], rows,
+              "Per-run checks: linear window, agreement of the punch and volume-averaged stress, KE/IE after the ramp")
+    warns = [f"{r['id']}: {w}" for r in runs for w in r["a"].get("warnings", [])]
+    if warns:
+        rep.p("Warnings: " + "; ".join(warns))
+
+    # ---- Fig. 1b ----
+    snap_run = next((r for r in truns if abs(run_T(r) - T0) < 0.5 and last_snapshot(r["dir"])), None) or \
+        next((r for r in runs if last_snapshot(r["dir"])), None)
+    if snap_run:
+        try:
+            import h5py
+            with h5py.File(last_snapshot(snap_run["dir"]), "r") as h:
+                x = np.array(h["position"])
+                mat = np.array(h["material"]).ravel()
+                vm = np.array(h["von_mises"]).ravel()
+            fig, ax = plt.subplots(1, 2, figsize=(10, 5))
+            s = max(0.2, 2e4 / max(len(mat), 1))
+            ax[0].scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=mat, s=s, cmap="tab10", marker=".", linewidths=0)
+            sc = ax[1].scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=vm / 1e6, s=s, cmap="viridis", marker=".", linewidths=0)
+            fig.colorbar(sc, ax=ax[1], label="von Mises stress (MPa)")
+            for a_ in ax:
+                a_.set_aspect("equal")
+                a_.set_xlabel("x (mm)")
+                a_.set_ylabel("y (mm)")
+            ax[0].set_title("material")
+            ax[1].set_title("von Mises stress")
+            rep.h("Final state (cf. paper Fig. 1b)")
+            rep.figure(fig, "fig1b_final_state", f"Final state of run {snap_run['id']} coloured by material and by stress")
+        except Exception as exc:  # a snapshot from another code version must not stop the report
+            rep.p(f"Fig. 1b skipped: could not read the last snapshot of {snap_run['id']} ({exc}).")
+    else:
+        rep.p("Fig. 1b skipped: no run has snapshots/snap_*.h5.")
+
+    # ---- temperature group ----
+    p2 = {(t["T_K"], t["source"]): t for t in paper.get("table2", [])}
+    p3 = dict(zip(paper["table3"]["T_K"], paper["table3"]["strength_MPa"]))
+    if truns:
+        rep.h("Temperature (porosity 0.08): paper Section 3.1")
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for r in sorted(truns, key=run_T):
+            e, p, v = curve(r)
+            line, = ax.plot(100 * e, p / 1e6, label=f"{run_T(r):.0f} K ({r['id']})")
+            ax.plot(100 * e, v / 1e6, "--", color=line.get_color(), lw=0.8)
+        ax.set_xlabel("strain (%)")
+        ax.set_ylabel("stress (MPa)")
+        ax.legend(fontsize=7)
+        rep.figure(fig, "fig2_curves_vs_temperature",
+                   "Stress-strain curves vs temperature (cf. Fig. 2): punch stress solid, volume average -σyy dashed")
+
+        rows = []
+        for c in tconds:
+            T = c["temperature_K"]
+            pt = p2.get((int(round(T)), "this"), {})
+            K, Ks = stat(c, "K_Pa", 1e-9)
+            G, Gs = stat(c, "G_Pa", 1e-9)
+            E, Es = stat(c, "E_Pa", 1e-9)
+            M, Ms = stat(c, "M_Pa", 1e-9)
+            nu, _ = stat(c, "nu")
+            rows.append([T, K, Ks, pt.get("K_GPa", NAN), ratio(K, pt.get("K_GPa")), G, Gs, pt.get("G_GPa", NAN),
+                         ratio(G, pt.get("G_GPa")), E, Es, pt.get("E_GPa", NAN), ratio(E, pt.get("E_GPa")), M, nu])
+        rep.table("table2_moduli_vs_temperature",
+                  ["T_K", "K_GPa", "K_std_GPa", "K_paper_GPa", "K_ratio", "G_GPa", "G_std_GPa", "G_paper_GPa", "G_ratio",
+                   "E_GPa", "E_std_GPa", "E_paper_GPa", "E_ratio", "M_GPa", "nu"], rows,
+                  "Moduli vs temperature beside the paper's Table 2 (E = 9KG/(3K+G))")
+
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        Ts = [c["temperature_K"] for c in tconds]
+        for key, lab, mk in (("K_Pa", "K", "o"), ("G_Pa", "G", "s"), ("E_Pa", "E", "^")):
+            m = [stat(c, key, 1e-9)[0] for c in tconds]
+            s = [stat(c, key, 1e-9)[1] for c in tconds]
+            eb = ax.errorbar(Ts, m, yerr=s, marker=mk, capsize=3, label=f"{lab} (ours)")
+            pts = [(t["T_K"], t.get(lab + "_GPa")) for t in paper.get("table2", []) if t["source"] == "this" and t.get(lab + "_GPa")]
+            if pts:
+                ax.plot(*zip(*pts), mk, mfc="none", color=eb[0].get_color(), ms=9, label=f"{lab} (paper)")
+        exp = [(t["T_K"], t["E_GPa"]) for t in paper.get("table2", []) if t["source"] == "exp"]
+        if exp:
+            ax.plot(*zip(*exp), "kx", label="E experiment (paper ref. 32)")
+        ax.set_xlabel("temperature (K)")
+        ax.set_ylabel("modulus (GPa)")
+        ax.legend(fontsize=7)
+        rep.figure(fig, "fig3_moduli_vs_temperature", "Moduli vs temperature (cf. Fig. 3); open symbols: paper Table 2")
+
+        rows = []
+        for c in tconds:
+            T = c["temperature_K"]
+            s, ss = stat(c, "strength_Pa", 1e-6)
+            y, ys = stat(c, "yield_stress_Pa", 1e-6)
+            ye, _ = stat(c, "yield_strain")
+            pv = p3.get(int(round(T)), NAN)
+            rows.append([T, s, ss, pv, ratio(s, pv), y, ys, 100 * ye if math.isfinite(ye) else NAN])
+        rep.table("table3_strength_vs_temperature",
+                  ["T_K", "strength_MPa", "strength_std_MPa", "strength_paper_MPa", "strength_ratio", "yield_MPa",
+                   "yield_std_MPa", "yield_strain_percent"], rows,
+                  "Compression strength and yield vs temperature beside the paper's Table 3 "
+                  f"(paper: yield 13-25 MPa, linear stage ends near {100 * paper['curves']['linear_stage_ends_at_strain']:.1f} %)")
+
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        ax.errorbar(Ts, [stat(c, "strength_Pa", 1e-6)[0] for c in tconds],
+                    yerr=[stat(c, "strength_Pa", 1e-6)[1] for c in tconds], fmt="o", capsize=3, label="ours")
+        ax.plot(paper["table3"]["T_K"], paper["table3"]["strength_MPa"], "s", mfc="none", ms=9, label="paper Table 3")
+        Tg = np.linspace(min(Ts + [293]) - 5, max(Ts + [373]) + 5, 100)
+        for key, style in (("nonlinear", "-"), ("loglinear", ":")):
+            f = get(fits, "eq13", key, default=None)
+            if f:
+                ax.plot(Tg, eq13(Tg, par(f, "sigma0"), par(f, "alpha"), T0) / 1e6, style, label=f"Eq. 13 ours, {key}")
+        pf = paper["fits"]["temperature"]
+        ax.plot(Tg, eq13(Tg, pf["sigma0_MPa"], pf["alpha"], pf["T0_K"]), "k--", lw=0.8, label="Eq. 13 paper")
+        ax.set_xlabel("temperature (K)")
+        ax.set_ylabel("compression strength (MPa)")
+        ax.legend(fontsize=7)
+        rep.figure(fig, "fig4_strength_vs_temperature", "Compression strength vs temperature (cf. Fig. 4)")
+
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for r in sorted(truns, key=run_T):
+            e, p, _ = curve(r)
+            sc = get(r["a"], "strength", "strength_Pa")
+            ax.plot(100 * e, p / sc, label=f"{run_T(r):.0f} K")
+        f14 = get(fits, "eq14", "fit", default=None)
+        eg = np.linspace(0.05, max(5.0, 100 * max((get(r["a"], "strength", "strength_window_end_strain") for r in truns), default=0.05)), 200)
+        pn = paper["fits"]["normalized_curve"]
+        ax.plot(eg, eq14(eg, pn["A"], pn["B"], pn["n"]), "k--", lw=0.8, label="Eq. 14 paper")
+        if f14:
+            ax.plot(eg, eq14(eg, par(f14, "A"), par(f14, "B"), par(f14, "n")), "k-", lw=1.2, label="Eq. 14 ours")
+        w = get(fits, "eq14", "window_percent", default=[0.5, 3])
+        ax.axvspan(w[0], w[1], color="0.9", zorder=0, label="Eq. 14 fitting window")
+        ax.set_xlabel("strain (%)")
+        ax.set_ylabel("σ / σc")
+        ax.set_ylim(0, 1.3)
+        ax.legend(fontsize=7)
+        rep.figure(fig, "fig5_normalized_curves", "Normalised curves σ/σc (cf. Fig. 5) with Eq. 14")
+
+        f13 = get(fits, "eq13", "nonlinear", default=None)
+        if f13 and f14:
+            fig, ax = plt.subplots(figsize=(6, 4.5))
+            eg = np.linspace(w[0], w[1], 100)
+            for r in sorted(truns, key=run_T):
+                e, p, _ = curve(r)
+                keep = (100 * e >= w[0] * 0.5)
+                pts, = ax.plot(100 * e[keep][::4], p[keep][::4] / 1e6, ".", ms=3)
+                law = eq13(run_T(r), par(f13, "sigma0"), par(f13, "alpha"), T0) * eq14(eg, par(f14, "A"), par(f14, "B"), par(f14, "n"))
+                ax.plot(eg, law / 1e6, "-", color=pts.get_color(), label=f"Eq. 15, {run_T(r):.0f} K")
+            ax.set_xlabel("strain (%)")
+            ax.set_ylabel("stress (MPa)")
+            ax.legend(fontsize=7)
+            rep.figure(fig, "fig6_eq15_vs_simulation",
+                       "Eq. 15 (ours, on its plateau window) against the simulation points (cf. Fig. 6)")
+
+    # ---- density group ----
+    hs = fits.get("density_law", {})
+    phs = paper["fits"]["hashin_shtrikman"]
+    rho0 = get(hs, "rho0_kg_m3", default=phs["rho0_g_cm3"] * 1e3)
+    if druns:
+        rep.h("Density (293 K): paper Section 3.2")
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        for r in sorted(druns, key=lambda r: get(r["a"], "density_kg_m3")):
+            e, p, _ = curve(r)
+            ax.plot(100 * e, p / 1e6, label=f"{get(r['a'], 'density_kg_m3') / 1e3:.3f} g/cm³ ({r['id']})")
+        ax.axhline(paper["curves"]["stress_at_99pct_TMD_MPa"], color="k", lw=0.6, ls=":", label="paper: 42.3 MPa at 99 % TMD")
+        ax.set_xlabel("strain (%)")
+        ax.set_ylabel("stress (MPa)")
+        ax.legend(fontsize=7)
+        rep.figure(fig, "fig7_curves_vs_density", "Stress-strain curves vs density (cf. Fig. 7)")
+
+        rows = []
+        for c in dconds:
+            rho, rs = stat(c, "density_kg_m3")
+            K, Ks = stat(c, "K_Pa", 1e-9)
+            G, Gs = stat(c, "G_Pa", 1e-9)
+            E, Es = stat(c, "E_Pa", 1e-9)
+            s, ss = stat(c, "strength_Pa", 1e-6)
+            x = rho / (phs["rho0_g_cm3"] * 1e3)
+            Gp = phs["GU_GPa"] * phs["G_k"] * x ** phs["G_n"]
+            Kp = phs["KU_GPa"] * phs["K_k"] * x ** phs["K_n"]
+            rows.append([rho / 1e3, rs / 1e3, K, Ks, Kp, ratio(K, Kp), G, Gs, Gp, ratio(G, Gp), E, Es, s, ss])
+        rep.table("moduli_vs_density",
+                  ["density_g_cm3", "density_std_g_cm3", "K_GPa", "K_std_GPa", "K_paper_eq22_GPa", "K_ratio", "G_GPa",
+                   "G_std_GPa", "G_paper_eq21_GPa", "G_ratio", "E_GPa", "E_std_GPa", "strength_MPa", "strength_std_MPa"],
+                  rows, "Moduli and strength vs density beside the paper's Eq. 21-22 (its fit of its Fig. 8 data)")
+
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        rhos = [stat(c, "density_kg_m3")[0] / 1e3 for c in dconds]
+        for key, lab, mk in (("K_Pa", "K", "o"), ("G_Pa", "G", "s"), ("E_Pa", "E", "^")):
+            ax.errorbar(rhos, [stat(c, key, 1e-9)[0] for c in dconds], yerr=[stat(c, key, 1e-9)[1] for c in dconds],
+                        marker=mk, capsize=3, label=lab)
+        ax.set_xlabel("density (g/cm³)")
+        ax.set_ylabel("modulus (GPa)")
+        ax.legend(fontsize=7)
+        rep.figure(fig, "fig8_moduli_vs_density", "Moduli vs density (cf. Fig. 8)")
+
+        fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
+        rg = np.linspace(min(rhos + [1.70]), max(rhos + [1.942]), 100)
+        for i, (lab, key, U) in enumerate((("G", "G_Pa", phs["GU_GPa"]), ("K", "K_Pa", phs["KU_GPa"]))):
+            ax[i].errorbar(rhos, [stat(c, key, 1e-9)[0] for c in dconds], yerr=[stat(c, key, 1e-9)[1] for c in dconds],
+                           fmt="o", capsize=3, label="ours")
+            f = hs.get(lab)
+            if f:
+                ax[i].plot(rg, U * par(f, "k") * (rg * 1e3 / rho0) ** par(f, "n"), "-", label=f"Eq. {21 if lab == 'G' else 22} ours")
+            ax[i].plot(rg, U * phs[lab + "_k"] * (rg / phs["rho0_g_cm3"]) ** phs[lab + "_n"], "k--", lw=0.8,
+                       label=f"Eq. {21 if lab == 'G' else 22} paper")
+            ax[i].set_xlabel("density (g/cm³)")
+            ax[i].set_ylabel(f"{lab} (GPa)")
+            ax[i].legend(fontsize=7)
+        rep.figure(fig, "fig9_density_law", "Predicted G and K against density (cf. Fig. 9a, b)")
+
+    # ---- fitted constants ----
+    rep.h("Fitted constants")
+    rows = []
+
+    def add(name, fit, pname, paper_value, scale=1.0, unit=""):
+        if not fit:
+            return
+        v = par(fit, pname)
+        lo, hi = ci(fit, pname)
+        rows.append([name, v * scale, lo * scale, hi * scale, paper_value, ratio(v * scale, paper_value), unit,
+                     fit.get("method", "")])
+
+    pf = paper["fits"]["temperature"]
+    pn = paper["fits"]["normalized_curve"]
+    add("Eq. 13 sigma0", get(fits, "eq13", "nonlinear", default=None), "sigma0", pf["sigma0_MPa"], 1e-6, "MPa")
+    add("Eq. 13 alpha", get(fits, "eq13", "nonlinear", default=None), "alpha", pf["alpha"])
+    add("Eq. 13 sigma0 (log-linear)", get(fits, "eq13", "loglinear", default=None), "sigma0", pf["sigma0_MPa"], 1e-6, "MPa")
+    add("Eq. 13 alpha (log-linear)", get(fits, "eq13", "loglinear", default=None), "alpha", pf["alpha"])
+    for k in ("A", "B", "n"):
+        add(f"Eq. 14 {k}", get(fits, "eq14", "fit", default=None), k, pn[k], unit="strain in %" if k == "A" else "")
+    for lab in ("G", "K"):
+        add(f"Eq. {21 if lab == 'G' else 22} k ({lab})", hs.get(lab), "k", phs[lab + "_k"])
+        add(f"Eq. {21 if lab == 'G' else 22} n ({lab})", hs.get(lab), "n", phs[lab + "_n"])
+    rep.table("fitted_constants", ["constant", "ours", "ci_low", "ci_high", "paper", "ratio", "unit", "method"], rows,
+              f"Fitted constants with {100 * fits.get('confidence', 0.95):.0f} % confidence intervals beside the paper's")
+    for key in ("eq13", "eq14", "density_law"):
+        if get(fits, key, "note", default=None):
+            rep.p(f"{key}: {fits[key]['note']}")
+    if get(fits, "eq14", "fit", default=None):
+        rep.p(f"Eq. 14 is fitted at T0 = {T0:.0f} K on the plateau window {w[0]}-{w[1]} % strain with strain in percent "
+              "(the form has an infinite initial slope; it is not meant for the elastic stage).")
+
+    refit = fits.get("paper_table3_refit", {})
+    if refit.get("nonlinear"):
+        nl, ll = refit["nonlinear"], refit["loglinear"]
+        rep.h("Refit of the paper's own Table 3 (Eq. 13)", 3)
+        rep.p(f"Nonlinear least squares on σc gives σ0 = {par(nl, 'sigma0') / 1e6:.2f} MPa, α = {par(nl, 'alpha'):.3f}; "
+              f"the log-linear fit gives σ0 = {par(ll, 'sigma0') / 1e6:.2f} MPa, α = {par(ll, 'alpha'):.3f}. "
+              f"The paper reports σ0 = {pf['sigma0_MPa']:.2f} MPa and α = {pf['alpha']}: its σ0 matches the nonlinear fit, "
+              f"but its α = {pf['alpha']} is reproduced by neither method.")
+
+    b = hs.get("bounds")
+    if b:
+        rep.h("Hashin-Shtrikman bounds", 3)
+        rows = [["pore-free composite (ours)", get(b, "pore_free", "K_upper_Pa") / 1e9, get(b, "pore_free", "G_upper_Pa") / 1e9,
+                 get(b, "pore_free", "K_lower_Pa") / 1e9, get(b, "pore_free", "G_lower_Pa") / 1e9],
+                ["with the run's pores (ours)", get(b, "with_pores", "K_upper_Pa") / 1e9, get(b, "with_pores", "G_upper_Pa") / 1e9,
+                 get(b, "with_pores", "K_lower_Pa") / 1e9, get(b, "with_pores", "G_lower_Pa") / 1e9],
+                ["paper (its ref. 41)", phs["KU_GPa"], phs["GU_GPa"], NAN, NAN]]
+        rep.table("hashin_shtrikman_bounds", ["case", "K_upper_GPa", "G_upper_GPa", "K_lower_GPa", "G_lower_GPa"], rows,
+                  f"Hashin-Shtrikman bounds from {b.get('phases_source', '?')} (run {b.get('run', '?')}) beside the "
+                  "paper's G^U, K^U")
+
+    # ---- model card ----
+    f13 = get(fits, "eq13", "nonlinear", default=None)
+    f14 = get(fits, "eq14", "fit", default=None)
+    if f13 and f14:
+        w = get(fits, "eq14", "window_percent", default=[0.5, 3])
+        Ts_card = sorted({round(run_T(r)) for r in truns}) or [T0]
+        card = {
+            "format": "pbxmpm-model-card-1",
+            "material": "TATB/F2314 PBX (mesoscale MPM, study '%s')" % study.get("name", "?"),
+            "law": "sigma = sigma0 * exp(alpha * (1 - T/T0)) * (A * e + B * e**n), e = compressive strain in PERCENT, "
+                   "sigma compressive stress in Pa (paper Eq. 15)",
+            "constants": {
+                "sigma0_Pa": {"value": par(f13, "sigma0"), "ci95": list(ci(f13, "sigma0"))},
+                "alpha": {"value": par(f13, "alpha"), "ci95": list(ci(f13, "alpha"))},
+                "T0_K": T0,
+                "A": {"value": par(f14, "A"), "ci95": list(ci(f14, "A"))},
+                "B": {"value": par(f14, "B"), "ci95": list(ci(f14, "B"))},
+                "n": {"value": par(f14, "n"), "ci95": list(ci(f14, "n"))},
+            },
+            "valid_strain_percent": w,
+            "valid_temperature_K": [min(Ts_card), max(Ts_card)],
+            "elastic": {c_["temperature_K"]: {"K_Pa": stat(c_, "K_Pa")[0], "G_Pa": stat(c_, "G_Pa")[0],
+                                              "E_Pa": stat(c_, "E_Pa")[0]} for c_ in tconds},
+            "density_law": {lab: {"law": f"{lab} = {lab}U * k * (rho/rho0)**n", f"{lab}U_Pa": get(hs, f"{lab}U_Pa"),
+                                  "rho0_kg_m3": rho0, "k": par(hs[lab], "k"), "n": par(hs[lab], "n")}
+                            for lab in ("G", "K") if hs.get(lab)},
+            "curves_file": "model_card_curves.csv",
+            "note": "Below the window's lower end the law over-predicts (infinite initial slope): use the elastic "
+                    "moduli there.",
+        }
+        card["elastic"] = {str(k): v for k, v in card["elastic"].items()}
+        with open(os.path.join(out, "model_card.json"), "w") as f:
+            json.dump(card, f, indent=2, allow_nan=False, default=lambda o: None)
+        eg = np.linspace(w[0], w[1], 51)
+        with open(os.path.join(out, "model_card_curves.csv"), "w", newline="") as f:
+            wtr = csv.writer(f)
+            wtr.writerow(["strain"] + [f"stress_Pa_T{T:.0f}K" for T in Ts_card])
+            for e in eg:
+                wtr.writerow([f"{e / 100:.6g}"] + [f"{eq13(T, par(f13, 'sigma0'), par(f13, 'alpha'), T0) * eq14(e, par(f14, 'A'), par(f14, 'B'), par(f14, 'n')):.6g}" for T in Ts_card])
+        rep.h("Macroscale model card")
+        rep.p("model_card.json holds the fitted Eq. 15 (and the density law) with intervals and validity ranges; "
+              "model_card_curves.csv tabulates stress (Pa) against strain (fraction) for each simulated temperature.")
+    else:
+        rep.p("Model card not written: Eq. 13 or Eq. 14 could not be fitted from this study.")
+
+    rep.write(f"pbxmpm report: {study.get('name', os.path.basename(os.path.abspath(args.study)))}")
+    print(f"make_report: wrote {out}/report.md, report.html and {len(glob.glob(os.path.join(out, '*.png')))} figures")
+
+
+if __name__ == "__main__":
+    main()
