@@ -208,30 +208,30 @@ Packing generate_packing(const PackingSpec& spec) {
   for (std::size_t i = 0; i < sample.size(); ++i) p.grains.push_back({best.centres[i], sample[i].diameter, 0, 0, sample[i].mode});
 
   if (!best.overlap_free) {
-    // Best reached: drop the smaller grain of each overlapping pair until none overlaps.
-    std::vector<char> keep(p.grains.size(), 1);
-    for (auto [i, j] : contact_pairs([&] {
-           Packing q = p;
-           q.contact_gap = 0;
-           return q;
-         }())) {
-      const Grain &a = p.grains[i], &b = p.grains[j];
-      Eigen::Vector2d d = b.centre - a.centre;
-      if (p.periodic)
-        for (int k = 0; k < 2; ++k) d[k] -= p.box[k] * std::round(d[k] / p.box[k]);
-      if (!keep[i] || !keep[j] || d.norm() >= 0.5 * (a.diameter + b.diameter)) continue;
-      keep[a.diameter < b.diameter ? i : j] = 0;
+    // Best reached: the same arrangement with every diameter shrunk by the one factor that removes
+    // the last overlap (pairs and walls), i.e. the TATB area this jammed packing can hold.
+    double shrink = 1.0;
+    for (std::size_t i = 0; i < p.grains.size(); ++i) {
+      const Grain& a = p.grains[i];
+      if (!p.periodic)
+        for (int k = 0; k < 2; ++k)
+          shrink = std::min({shrink, a.centre[k] / (0.5 * a.diameter), (p.box[k] - a.centre[k]) / (0.5 * a.diameter)});
+      for (std::size_t j = i + 1; j < p.grains.size(); ++j) {
+        const Grain& b = p.grains[j];
+        Eigen::Vector2d d = b.centre - a.centre;
+        if (p.periodic)
+          for (int k = 0; k < 2; ++k) d[k] -= p.box[k] * std::round(d[k] / p.box[k]);
+        shrink = std::min(shrink, d.norm() / (0.5 * (a.diameter + b.diameter)));
+      }
     }
-    double kept = 0;
-    for (std::size_t i = 0; i < keep.size(); ++i)
-      if (keep[i]) kept += 0.25 * std::numbers::pi * p.grains[i].diameter * p.grains[i].diameter;
+    const double kept = shrink * shrink * tatb_area;
     const double reached = 1.0 - (1.0 + beta) * kept / box_area;
     throw InputError(fmt::format(
         "packing.porosity: {:.4f} cannot be reached with these grain sizes: after {} attempts the densest "
-        "overlap-free packing found has porosity {:.4f} (TATB area fraction {:.4f}). Raise porosity, add "
+        "overlap-free packing found has porosity {:.4f} (TATB area fraction {:.4f}, grains shrunk by {:.3f}). Raise porosity, add "
         "attempts, widen [diameter_min, diameter_max] or change the mode shares (a larger size ratio "
         "between the modes packs denser).",
-        spec.porosity, spec.attempts, reached, kept / box_area));
+        spec.porosity, spec.attempts, reached, kept / box_area, shrink));
   }
 
   // Coat thickness from the exact mass balance: union(coats) - TATB = beta * TATB. The union area

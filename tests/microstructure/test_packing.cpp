@@ -1,0 +1,185 @@
+// Generated packings: geometry, mass balance, porosity, colouring, determinism and bad decks.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "io/deck.hpp"
+#include "microstructure/colouring.hpp"
+#include "microstructure/packing.hpp"
+#include "microstructure/union_area.hpp"
+
+using namespace pbx;
+
+namespace {
+
+const char* kDeck = R"([packing]
+box = ["1.0 mm", "1.2 mm"]
+porosity = 0.0932
+mass_ratio = [95, 5]
+diameter_min = "50 um"
+diameter_max = "300 um"
+seed = 3
+[packing.coarse]
+mean = "260 um"
+spread = "30 um"
+share = 0.75
+[packing.fine]
+mean = "70 um"
+spread = "20 um"
+share = 0.25
+)";
+
+PackingSpec spec_from(const std::string& text) {
+  Deck d = Deck::from_string(text, "pack.toml");
+  PackingSpec s = read_packing_spec(d.root().table("packing"));
+  d.check_unused();
+  return s;
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    generate_packing(spec_from(text));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string slurp(const std::filesystem::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const Packing& paper_packing() {
+  static const Packing p = generate_packing(spec_from(kDeck));
+  return p;
+}
+
+}  // namespace
+
+TEST(Packing, TmdAndBinderAreaFromPhaseDensities) {
+  const PackingSpec s = spec_from(kDeck);
+  // 1 / (0.95/1.934 + 0.05/2.02) g/cm3 (the paper quotes 1.942, see docs).
+  EXPECT_NEAR(s.tmd(), 1938.126, 0.001);
+  EXPECT_NEAR(s.binder_per_tatb_area(), (5.0 / 95.0) * (1934.0 / 2020.0), 1e-15);
+}
+
+TEST(Packing, GrainsNeverOverlapAndStayInTheBox) {
+  const Packing& p = paper_packing();
+  ASSERT_GT(p.grains.size(), 20u);
+  for (std::size_t i = 0; i < p.grains.size(); ++i) {
+    const Grain& a = p.grains[i];
+    EXPECT_TRUE(a.centre.x() >= 0 && a.centre.x() < p.box.x() && a.centre.y() >= 0 && a.centre.y() < p.box.y());
+    EXPECT_TRUE(a.diameter >= 50e-6 && a.diameter <= 300e-6);
+    for (std::size_t j = i + 1; j < p.grains.size(); ++j) {
+      const Grain& b = p.grains[j];
+      Eigen::Vector2d d = b.centre - a.centre;
+      for (int k = 0; k < 2; ++k) d[k] -= p.box[k] * std::round(d[k] / p.box[k]);  // periodic images
+      EXPECT_GE(d.norm(), 0.5 * (a.diameter + b.diameter)) << i << " " << j;
+    }
+  }
+}
+
+TEST(Packing, PorosityMassRatioAndCoatsAreAsSpecified) {
+  const Packing& p = paper_packing();
+  const PackingStats& s = p.stats;
+  EXPECT_NEAR(s.porosity, 0.0932, 0.002);
+  EXPECT_NEAR(s.tatb_mass_fraction, 0.95, 1e-9);  // exact mass balance (bisection to round-off)
+  EXPECT_NEAR(s.density, (1 - s.porosity) * s.tmd, 1e-9);
+  // Periodic packing: each grain's TATB area is in the box exactly once.
+  double tatb = 0;
+  for (const auto& g : p.grains) tatb += 0.25 * std::numbers::pi * g.diameter * g.diameter;
+  EXPECT_NEAR(s.tatb_area_fraction, tatb / p.box.prod(), 1e-9);
+  // Proportional coats: one thickness-to-diameter ratio, at least the no-overlap value
+  // (sqrt(1 + beta) - 1)/2 = 0.01236 because overlapping coats hide some binder.
+  const double ratio = p.grains[0].coat / p.grains[0].diameter;
+  for (const auto& g : p.grains) EXPECT_NEAR(g.coat / g.diameter, ratio, 1e-12);
+  const double beta = (5.0 / 95.0) * (1934.0 / 2020.0);
+  EXPECT_GT(ratio, 0.5 * (std::sqrt(1 + beta) - 1));
+  EXPECT_LT(ratio, 0.03);
+}
+
+TEST(Packing, UniformCoatHasOneThickness) {
+  const Packing p = generate_packing(spec_from(replace(kDeck, "seed = 3", "seed = 3\ncoat = \"uniform\"")));
+  for (const auto& g : p.grains) EXPECT_DOUBLE_EQ(g.coat, p.grains[0].coat);
+  EXPECT_NEAR(p.stats.tatb_mass_fraction, 0.95, 1e-9);
+}
+
+TEST(Packing, ColouringSeparatesEveryContact) {
+  const Packing& p = paper_packing();
+  const auto pairs = contact_pairs(p);
+  EXPECT_GT(pairs.size(), p.grains.size());  // a dense packing: more contacts than grains
+  for (auto [i, j] : pairs) EXPECT_NE(p.grains[i].colour, p.grains[j].colour) << i << " " << j;
+  EXPECT_GE(p.stats.colours, 3);
+  EXPECT_LE(p.stats.colours, 8);
+}
+
+TEST(Packing, SameSeedGivesByteIdenticalFilesAndReadsBack) {
+  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_packing";
+  std::filesystem::remove_all(dir);
+  write_packing(paper_packing(), (dir / "a").string());
+  write_packing(generate_packing(spec_from(kDeck)), (dir / "b").string());
+  for (const char* f : {"packing.csv", "packing.json", "packing.png"})
+    EXPECT_EQ(slurp(dir / "a" / f), slurp(dir / "b" / f)) << f;
+  const Packing q = read_packing((dir / "a").string());
+  ASSERT_EQ(q.grains.size(), paper_packing().grains.size());
+  for (std::size_t i = 0; i < q.grains.size(); ++i) {
+    EXPECT_EQ(q.grains[i].centre, paper_packing().grains[i].centre);
+    EXPECT_EQ(q.grains[i].coat, paper_packing().grains[i].coat);
+    EXPECT_EQ(q.grains[i].colour, paper_packing().grains[i].colour);
+  }
+  EXPECT_NEAR(q.stats.porosity, paper_packing().stats.porosity, 1e-12);
+  // A different seed gives a different packing.
+  const Packing other = generate_packing(spec_from(replace(kDeck, "seed = 3", "seed = 4")));
+  EXPECT_NE(other.grains[0].centre, paper_packing().grains[0].centre);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Packing, DensityTargetIsConvertedWithTheTmd) {
+  const PackingSpec s = spec_from(replace(kDeck, "porosity = 0.0932", "density = \"1.7575 g/cm3\""));
+  EXPECT_NEAR(s.porosity, 1 - 1757.5 / s.tmd(), 1e-12);
+}
+
+TEST(Packing, BadDecksNameTheKey) {
+  auto msg = [](const std::string& text) {
+    try {
+      spec_from(text);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(msg(replace(kDeck, "diameter_min = \"50 um\"", "diameter_min = \"400 um\"")).find("packing.diameter_min"),
+            std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "porosity = 0.0932", "porosity = 1.0")).find("packing.porosity: must lie in [0, 1)"),
+            std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "porosity = 0.0932", "porosity = -0.01")).find("packing.porosity"), std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "mass_ratio = [95, 5]", "mass_ratio = [95, 0]")).find("packing.mass_ratio"),
+            std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "mass_ratio = [95, 5]", "mass_ratio = [-95, 5]")).find("packing.mass_ratio"),
+            std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "share = 0.25", "share = 0.5")).find("share"), std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "seed = 3", "seed = 3\ncoat = \"thick\"")).find("packing.coat"), std::string::npos);
+  EXPECT_NE(msg(replace(kDeck, "seed = 3", "seed = 3\nsede = 4")).find("unknown key 'packing.sede'"),
+            std::string::npos);
+}
+
+TEST(Packing, UnreachablePorosityStatesTheBestReached) {
+  const std::string m = error_of(replace(replace(kDeck, "porosity = 0.0932", "porosity = 0.02"), "seed = 3",
+                                         "seed = 3\nattempts = 1"));
+  EXPECT_NE(m.find("cannot be reached"), std::string::npos) << m;
+  EXPECT_NE(m.find("densest overlap-free packing found has porosity"), std::string::npos) << m;
+}
