@@ -134,48 +134,50 @@ void register_analysis(CLI::App& app) {
                                     KU = "10.52 GPa", strength;
     double confidence = 0.95;
   };
-  auto fa = std::make_shared<FitArgs>();
-  auto write_out = [fa](const Json& j) {
-    if (fa->out.empty()) return;
-    j.write_file(fa->out);
-    fmt::print("wrote {}\n", fa->out);
+  // One argument set per sub-command: CLI11 writes default values into the bound variables.
+  auto write_out = [](const std::string& out, const Json& j) {
+    if (out.empty()) return;
+    j.write_file(out);
+    fmt::print("wrote {}\n", out);
   };
 
+  auto ta = std::make_shared<FitArgs>();
   auto* ft = fit->add_subcommand("temperature", "Eq. 13, sigma_c = sigma0 exp(alpha (1 - T/T0)), both methods");
-  ft->add_option("CSV", fa->csv, "CSV file with a header line")->required();
-  ft->add_option("--T-col", fa->x, "temperature column (K)")->default_val("T_K");
-  ft->add_option("--strength-col", fa->y, "strength column; unit from its suffix (_Pa, _MPa, _GPa)")->default_val("strength_MPa");
-  ft->add_option("--T0", fa->T0, "reference temperature")->default_val("293 K");
-  ft->add_option("--confidence", fa->confidence, "confidence level of the intervals")->default_val(0.95);
-  ft->add_option("--out", fa->out, "write the fits as JSON");
-  ft->callback([fa, write_out] {
-    const CsvTable t = CsvTable::read(fa->csv);
-    const auto T = t.column(fa->x);
-    const auto s = scaled_column(t, fa->y);
-    const double T0 = quantity_option(fa->T0, dim::temperature, "--T0");
-    const FitResult nl = fit_temperature_law_nonlinear(T, s, T0, fa->confidence);
-    const FitResult ll = fit_temperature_law_loglinear(T, s, T0, fa->confidence);
+  ft->add_option("CSV", ta->csv, "CSV file with a header line")->required();
+  ft->add_option("--T-col", ta->x, "temperature column (K)")->default_val("T_K");
+  ft->add_option("--strength-col", ta->y, "strength column; unit from its suffix (_Pa, _MPa, _GPa)")->default_val("strength_MPa");
+  ft->add_option("--T0", ta->T0, "reference temperature")->default_val("293 K");
+  ft->add_option("--confidence", ta->confidence, "confidence level of the intervals")->default_val(0.95);
+  ft->add_option("--out", ta->out, "write the fits as JSON");
+  ft->callback([ta, write_out] {
+    const CsvTable t = CsvTable::read(ta->csv);
+    const auto T = t.column(ta->x);
+    const auto s = scaled_column(t, ta->y);
+    const double T0 = quantity_option(ta->T0, dim::temperature, "--T0");
+    const FitResult nl = fit_temperature_law_nonlinear(T, s, T0, ta->confidence);
+    const FitResult ll = fit_temperature_law_loglinear(T, s, T0, ta->confidence);
     print_fit(nl);
     print_fit(ll);
     Json j = Json::object();
     j.set("nonlinear", nl.to_json());
     j.set("loglinear", ll.to_json());
-    write_out(j);
+    write_out(ta->out, j);
   });
 
+  auto ca = std::make_shared<FitArgs>();
   auto* fc = fit->add_subcommand("curve", "Eq. 14, sigma_n = A e + B e^n (e in percent), on the plateau window");
-  fc->add_option("CSV", fa->csv, "CSV file with a header line (e.g. a history.csv)")->required();
-  fc->add_option("--strain-col", fa->x, "strain column (fraction; '_percent' suffix for percent)")->default_val("strain");
-  fc->add_option("--stress-col", fa->y, "stress column, compression positive; unit from its suffix")->default_val("punch_stress_Pa");
-  fc->add_option("--strength", fa->strength, "sigma_c used to normalise (e.g. '32.8 MPa'); default: max stress in the window");
-  fc->add_option("--window", fa->window, "fitting window LO:HI in percent strain")->default_val("0.5:3");
-  fc->add_option("--confidence", fa->confidence, "confidence level of the intervals")->default_val(0.95);
-  fc->add_option("--out", fa->out, "write the fit as JSON");
-  fc->callback([fa, write_out] {
-    const CsvTable t = CsvTable::read(fa->csv);
-    const auto e = scaled_column(t, fa->x);
-    const auto s = scaled_column(t, fa->y);
-    auto [lo, hi] = range_option(fa->window, "--window");
+  fc->add_option("CSV", ca->csv, "CSV file with a header line (e.g. a history.csv)")->required();
+  fc->add_option("--strain-col", ca->x, "strain column (fraction; '_percent' suffix for percent)")->default_val("strain");
+  fc->add_option("--stress-col", ca->y, "stress column, compression positive; unit from its suffix")->default_val("punch_stress_Pa");
+  fc->add_option("--strength", ca->strength, "sigma_c used to normalise (e.g. '32.8 MPa'); default: max stress in the window");
+  fc->add_option("--window", ca->window, "fitting window LO:HI in percent strain")->default_val("0.5:3");
+  fc->add_option("--confidence", ca->confidence, "confidence level of the intervals")->default_val(0.95);
+  fc->add_option("--out", ca->out, "write the fit as JSON");
+  fc->callback([ca, write_out] {
+    const CsvTable t = CsvTable::read(ca->csv);
+    const auto e = scaled_column(t, ca->x);
+    const auto s = scaled_column(t, ca->y);
+    auto [lo, hi] = range_option(ca->window, "--window");
     std::vector<double> ep, sp;
     for (std::size_t i = 0; i < e.size(); ++i) {
       if (100 * e[i] >= lo && 100 * e[i] <= hi && std::isfinite(s[i])) {
@@ -184,66 +186,68 @@ void register_analysis(CLI::App& app) {
       }
     }
     double sc = 0;
-    if (!fa->strength.empty()) {
-      sc = quantity_option(fa->strength, dim::pressure, "--strength");
+    if (!ca->strength.empty()) {
+      sc = quantity_option(ca->strength, dim::pressure, "--strength");
     } else {
       for (double x : sp) sc = std::max(sc, x);
     }
     if (!(sc > 0)) throw InputError("--strength: the normalising stress must be > 0");
     for (auto& x : sp) x /= sc;
-    const FitResult f = fit_normalized_curve(ep, sp, fa->confidence);
+    const FitResult f = fit_normalized_curve(ep, sp, ca->confidence);
     fmt::print("normalised by sigma_c = {:.6g} Pa; window {} .. {} % strain\n", sc, lo, hi);
     print_fit(f);
     Json j = f.to_json();
     j.set("sigma_c_Pa", sc);
     j.set("window_percent", Json::numbers({lo, hi}));
-    write_out(j);
+    write_out(ca->out, j);
   });
 
+  auto da = std::make_shared<FitArgs>();
   auto* fd = fit->add_subcommand("density", "Eq. 19-22, M/M^U = k (rho/rho0)^n for G and K");
-  fd->add_option("CSV", fa->csv, "CSV file with a header line")->required();
-  fd->add_option("--density-col", fa->x, "density column (_g_cm3 or _kg_m3 suffix)")->default_val("density_g_cm3");
-  fd->add_option("--G-col", fa->y, "shear modulus column (unit suffix)")->default_val("G_GPa");
-  fd->add_option("--K-col", fa->y2, "bulk modulus column (unit suffix)")->default_val("K_GPa");
-  fd->add_option("--rho0", fa->rho0, "theoretical maximum density")->default_val("1942 kg/m3");
-  fd->add_option("--GU", fa->GU, "upper-bound shear modulus G^U")->default_val("10.84 GPa");
-  fd->add_option("--KU", fa->KU, "upper-bound bulk modulus K^U")->default_val("10.52 GPa");
-  fd->add_option("--confidence", fa->confidence, "confidence level of the intervals")->default_val(0.95);
-  fd->add_option("--out", fa->out, "write the fits as JSON");
-  fd->callback([fa, write_out] {
-    const CsvTable t = CsvTable::read(fa->csv);
-    const auto rho = scaled_column(t, fa->x);
-    const double rho0 = quantity_option(fa->rho0, dim::density, "--rho0");
-    const double GU = quantity_option(fa->GU, dim::pressure, "--GU"), KU = quantity_option(fa->KU, dim::pressure, "--KU");
+  fd->add_option("CSV", da->csv, "CSV file with a header line")->required();
+  fd->add_option("--density-col", da->x, "density column (_g_cm3 or _kg_m3 suffix)")->default_val("density_g_cm3");
+  fd->add_option("--G-col", da->y, "shear modulus column (unit suffix)")->default_val("G_GPa");
+  fd->add_option("--K-col", da->y2, "bulk modulus column (unit suffix)")->default_val("K_GPa");
+  fd->add_option("--rho0", da->rho0, "theoretical maximum density")->default_val("1942 kg/m3");
+  fd->add_option("--GU", da->GU, "upper-bound shear modulus G^U")->default_val("10.84 GPa");
+  fd->add_option("--KU", da->KU, "upper-bound bulk modulus K^U")->default_val("10.52 GPa");
+  fd->add_option("--confidence", da->confidence, "confidence level of the intervals")->default_val(0.95);
+  fd->add_option("--out", da->out, "write the fits as JSON");
+  fd->callback([da, write_out] {
+    const CsvTable t = CsvTable::read(da->csv);
+    const auto rho = scaled_column(t, da->x);
+    const double rho0 = quantity_option(da->rho0, dim::density, "--rho0");
+    const double GU = quantity_option(da->GU, dim::pressure, "--GU"), KU = quantity_option(da->KU, dim::pressure, "--KU");
     Json j = Json::object();
-    if (t.has(fa->y)) {
-      const FitResult g = fit_density_law(rho, scaled_column(t, fa->y), rho0, GU, fa->confidence);
+    if (t.has(da->y)) {
+      const FitResult g = fit_density_law(rho, scaled_column(t, da->y), rho0, GU, da->confidence);
       fmt::print("G: ");
       print_fit(g);
       j.set("G", g.to_json());
     }
-    if (t.has(fa->y2)) {
-      const FitResult k = fit_density_law(rho, scaled_column(t, fa->y2), rho0, KU, fa->confidence);
+    if (t.has(da->y2)) {
+      const FitResult k = fit_density_law(rho, scaled_column(t, da->y2), rho0, KU, da->confidence);
       fmt::print("K: ");
       print_fit(k);
       j.set("K", k.to_json());
     }
-    if (!t.has(fa->y) && !t.has(fa->y2)) {
-      throw InputError(fmt::format("{}: neither --G-col '{}' nor --K-col '{}' is a column", fa->csv, fa->y, fa->y2));
+    if (!t.has(da->y) && !t.has(da->y2)) {
+      throw InputError(fmt::format("{}: neither --G-col '{}' nor --K-col '{}' is a column", da->csv, da->y, da->y2));
     }
-    write_out(j);
+    write_out(da->out, j);
   });
 
+  auto oa = std::make_shared<FitArgs>();
   auto sa = std::make_shared<AnalyzeArgs>();
   auto* fs = fit->add_subcommand("study", "analyse every run of a study and fit it (writes fits.json)");
   fs->add_option("STUDY_DIR", sa->dir, "study directory (study.json, runs/)")->required();
-  fs->add_option("--out", fa->out, "output file (default STUDY_DIR/fits.json)");
+  fs->add_option("--out", oa->out, "output file (default STUDY_DIR/fits.json)");
   add_analysis_flags(fs, *sa);
-  fs->callback([sa, fa] {
+  fs->callback([sa, oa] {
     StudyFitOptions o;
     o.analysis = analysis_options(*sa);
     const Json j = fit_study(load_study(sa->dir, o), o);
-    const std::string out = fa->out.empty() ? sa->dir + "/fits.json" : fa->out;
+    const std::string out = oa->out.empty() ? sa->dir + "/fits.json" : oa->out;
     j.write_file(out);
     fmt::print("wrote {}\n", out);
   });
