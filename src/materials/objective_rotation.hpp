@@ -16,12 +16,15 @@ struct StepRotation;
 template <>
 struct StepRotation<2> {
   double c = 1, s = 0;
+  double c2 = 1, s2 = 0;  // cos and sin of the double angle: rotate (d, xy) of a deviator
   StepRotation() = default;
   StepRotation(const Mat<2>& L, double dt) {
     const double a = 0.25 * dt * (L(0, 1) - L(1, 0));
     const double inv = 1.0 / (1.0 + a * a);
     c = (1.0 - a * a) * inv;
     s = 2.0 * a * inv;
+    c2 = c * c - s * s;
+    s2 = 2.0 * c * s;
   }
   Sym3 apply(const Sym3& t) const {
     const double cc = c * c, ss = s * s, cs = c * s;

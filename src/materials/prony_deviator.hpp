@@ -75,14 +75,33 @@ class PronyDeviator {
     const double de2 = de.ddot(de);
     double d = 0;
     const std::size_t ns = st.shear.size();
-    for (std::size_t k = 0; k < ns; ++k) {
-      const Branch& br = st.shear[k];
-      double* hk = h + k * n;
-      const Sym3 h0 = R.apply(DeviatoricStorage<D>::load(hk));
-      const Sym3 h1 = br.a * h0 + br.b * de;
-      d += br.c1 * h0.ddot(h0) + br.c2 * h0.ddot(de) + br.c3 * de2;
-      s += h1 - h0;
-      DeviatoricStorage<D>::store(h1, hk);
+    if constexpr (D == 2) {
+      // (m, d, xy) storage of deviatoric_storage.hpp: rotation turns (d, xy) by 2 theta only.
+      const double em = 0.5 * (de.xx + de.yy), ed = 0.5 * (de.xx - de.yy), exy = de.xy;
+      double sm = 0, sd = 0, sxy = 0;
+      for (std::size_t k = 0; k < ns; ++k) {
+        const Branch& br = st.shear[k];
+        double* hk = h + k * n;
+        const double m0 = hk[0];
+        const double d0 = R.c2 * hk[1] + R.s2 * hk[2];
+        const double x0 = R.c2 * hk[2] - R.s2 * hk[1];
+        const double m1 = br.a * m0 + br.b * em, d1 = br.a * d0 + br.b * ed, x1 = br.a * x0 + br.b * exy;
+        d += br.c1 * (6.0 * m0 * m0 + 2.0 * (d0 * d0 + x0 * x0)) +
+             br.c2 * (6.0 * m0 * em + 2.0 * (d0 * ed + x0 * exy)) + br.c3 * de2;
+        sm += m1 - m0, sd += d1 - d0, sxy += x1 - x0;
+        hk[0] = m1, hk[1] = d1, hk[2] = x1;
+      }
+      s += Sym3{sm + sd, sm - sd, -2.0 * sm, sxy, 0.0, 0.0};
+    } else {
+      for (std::size_t k = 0; k < ns; ++k) {
+        const Branch& br = st.shear[k];
+        double* hk = h + k * n;
+        const Sym3 h0 = R.apply(DeviatoricStorage<D>::load(hk));
+        const Sym3 h1 = br.a * h0 + br.b * de;
+        d += br.c1 * h0.ddot(h0) + br.c2 * h0.ddot(de) + br.c3 * de2;
+        s += h1 - h0;
+        DeviatoricStorage<D>::store(h1, hk);
+      }
     }
     if (!st.bulk.empty()) {
       double* hb = h + ns * n;
