@@ -46,6 +46,10 @@ struct RigidBody {
   // nodes at or behind the face: a node a fraction of a cell in front of it belongs to the
   // specimen alone, which removes the one-cell-early contact of kernel-overlap detection.
   double face0 = 0;
+  // A node in front of the face also takes part when the mass centre of the specimen field near
+  // it lies within `cutoff` cells of the face (Lemiale, Hurmane & Nairn 2010 position check;
+  // 0.8 is Nairn's recommendation for uGIMP with 2 particles per cell per axis).
+  double cutoff = 0.8;
   bool moving() const { return velocity.squaredNorm() > 0; }
   double face_at(double t) const { return face0 + displacement_at(t).dot(normal); }
 

@@ -42,11 +42,14 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
       for (std::size_t b = 0; b < nb; ++b) {
         if (grid.mass[grid.at(bodies[b].field, i)] <= 0.0) continue;
         const Vec<D>& n = bodies[b].normal;
-        if (grid.position(i).dot(n) > face[b]) continue;  // node in front of the face
+        const double xn = grid.position(i).dot(n);
+        const bool behind = xn <= face[b];
+        const double reach = bodies[b].cutoff * grid.h;
         for (int f = 0; f < deformable; ++f) {
           const long k = grid.at(f, i);
           const double m = grid.mass[k];
           if (m <= mass_eps) continue;
+          if (!behind && xn + grid.moff[k].dot(n) / m - face[b] > reach) continue;
           const Vec<D> vrel = grid.mom[k] / m - vb[b];
           Vec<D> dp;
           double fw = 0;

@@ -5,7 +5,8 @@
 //   approaching (v_rel . n < 0):  normal impulse  dp_n = -m_a (v_rel . n) n   (stops penetration)
 //                                 tangential     dp_t = -m_a v_t min(1, mu |v_rel . n| / |v_t|)
 // (Coulomb: stick while |v_t| <= mu |v_n|, else slide with tangential impulse mu x normal impulse).
-// Only nodes at or behind the body's face (x_i . n <= face) take part.
+// Nodes at or behind the body's face (x_i . n <= face) take part, and nodes in front of it whose
+// field mass centre lies within `cutoff` cells of the face (position check).
 // A `stick` body always imposes v_a = v_b. Impulses are added to the body's record so that the
 // reaction force is exactly the momentum exchanged.
 #include <vector>

@@ -117,7 +117,7 @@ Scene<D> build_scene(const Deck& deck) {
 
   // ---- solver settings
   if (auto s = root.optional_table("solver")) {
-    const std::string integ = s->string("integrator", "musl");
+    const std::string integ = s->string("integrator", "usl");
     if (integ == "musl") sc.settings.integrator = Integrator::musl;
     else if (integ == "usl") sc.settings.integrator = Integrator::usl;
     else if (integ == "usf") sc.settings.integrator = Integrator::usf;
@@ -254,11 +254,13 @@ Scene<D> build_scene(const Deck& deck) {
       Die& die = *sc.die;
       const double wt = wall_cells * h, W = die.width, H = die.height;
       const double mu = die_t->non_negative("wall_friction", dim::none, 0.0);
+      const double cutoff = die_t->non_negative("contact_cutoff", dim::none, 0.8);
       auto wall = [&](const char* name, Vec<2> n, Vec<2> blo, Vec<2> bhi) {
         RigidBody<2> b;
         b.name = name;
         b.normal = n;
         b.friction = mu;
+        b.cutoff = cutoff;
         return add_body(std::move(b), blo, bhi);
       };
       die.left = wall("wall_left", {1, 0}, {-wt, -wt}, {0, H + wt});
@@ -268,6 +270,7 @@ Scene<D> build_scene(const Deck& deck) {
       punch.name = "punch";
       punch.normal = {0, -1};
       punch.friction = mu;
+      punch.cutoff = cutoff;
       punch.velocity = {0, -die.punch_velocity};
       punch.ramp.t_ramp = 2.0 * die.ramp_strain * H / die.punch_velocity;
       die.punch = add_body(std::move(punch), Vec<2>(0, H), Vec<2>(W, H + wt));
@@ -283,6 +286,7 @@ Scene<D> build_scene(const Deck& deck) {
     else if (c != "unilateral") r.fail("contact", "unknown rigid contact '" + c + "' (known: unilateral, stick)");
     if (std::abs(b.normal.norm() - 1.0) > 1e-9) r.fail("normal", "must be a unit vector (outward, into the specimen)");
     b.friction = r.non_negative("friction", dim::none, 0.0);
+    b.cutoff = r.non_negative("contact_cutoff", dim::none, 0.8);
     b.velocity = read_vec<D>(r, "velocity", dim::velocity, Vec<D>::Zero());
     b.ramp.t_ramp = r.non_negative("ramp_time", dim::time, 0.0);
     add_body(std::move(b), s.lo, s.hi);

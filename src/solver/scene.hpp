@@ -21,7 +21,7 @@ enum class Integrator { usf, usl, musl };
 template <int D>
 struct SolverSettings {
   Kernel kernel = Kernel::ugimp;
-  Integrator integrator = Integrator::musl;
+  Integrator integrator = Integrator::usl;
   double flip = 0.99;          // FLIP fraction of the particle velocity update (1 = pure FLIP)
   double cfl = 0.4;            // dt = cfl h / max(c_L/sqrt(f) + |v|)
   double mass_scaling = 1.0;   // f: inertia x f, clock physical

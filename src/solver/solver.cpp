@@ -51,7 +51,7 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   }
   double msum = 0;
   for (double m : P.mass) msum += m;
-  mass_eps_ = 1e-10 * sc_.settings.mass_scaling * msum / static_cast<double>(std::max<std::size_t>(1, P.size()));
+  mass_eps_ = 1e-20 * sc_.settings.mass_scaling * msum / static_cast<double>(std::max<std::size_t>(1, P.size()));
   half_width_ = 0.5 / sc_.settings.ppc;
   for (auto& m : sc_.materials) cmax_ = std::max(cmax_, m->initial_wave_speed());
   for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
@@ -123,6 +123,7 @@ void Solver<D>::reset_grid() {
   auto& g = sc_.grid;
   std::fill(g.mass.begin(), g.mass.end(), 0.0);
   std::fill(g.mom.begin(), g.mom.end(), Vec<D>::Zero());
+  std::fill(g.moff.begin(), g.moff.end(), Vec<D>::Zero());
   std::fill(g.force.begin(), g.force.end(), Vec<D>::Zero());
 }
 
@@ -135,6 +136,15 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   const long nn = g.nodes();
   const Vec<D> grav = sc_.settings.gravity;
   const bool gravity = grav.squaredNorm() > 0;
+  const bool track_offsets = !sc_.bodies.empty();
+  auto node_cells = [&](long i) {
+    Vec<D> c;
+    for (int d = 0; d < D; ++d) {
+      c[d] = static_cast<double>(i % g.n[d]);
+      i /= g.n[d];
+    }
+    return c;
+  };
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (long s = phase; s < bins_.strips; s += 2) {
@@ -148,10 +158,13 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
         double* gm = g.mass.data() + off;
         Vec<D>* gp = g.mom.data() + off;
         Vec<D>* gf = g.force.data() + off;
+        Vec<D>* go = g.moff.data() + off;
+        const Vec<D> xs = (P.x[p] - g.origin) * inv_h;  // position in cells
         for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
           if (mass_momentum) {
             gm[i] += S * m;
             gp[i] += S * mv;
+            if (track_offsets) go[i] += (S * m * g.h) * (xs - node_cells(i));
           }
           if (forces) {
             gf[i] += sv * G;

@@ -1,0 +1,54 @@
+// Each class of bad deck gets its own clear message naming the key.
+#include <gtest/gtest.h>
+
+#include "block_deck.hpp"
+#include "core/error.hpp"
+#include "scene_fixture.hpp"
+
+using namespace pbx;
+
+namespace {
+std::string error_of(const std::string& deck) {
+  try {
+    test::scene_from(deck);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+std::string replace(std::string s, const std::string& a, const std::string& b) {
+  const auto pos = s.find(a);
+  EXPECT_NE(pos, std::string::npos) << a;
+  if (pos != std::string::npos) s.replace(pos, a.size(), b);
+  return s;
+}
+}  // namespace
+
+TEST(BadDecks, EachClassNamesItsKey) {
+  const std::string ok = test::block_deck(100);
+  EXPECT_EQ(error_of(ok), "(no error)");
+  struct Case {
+    std::string from, to, expect;
+  };
+  const Case cases[] = {
+      {"cfl = 0.4", "cfl = 1.2", "solver.cfl: must lie in (0, 1)"},
+      {"cfl = 0.4", "cfll = 0.4", "unknown key 'solver.cfll'"},
+      {"density = \"1.934 g/cm3\"", "density = \"-1.934 g/cm3\"", "materials.block.density: must be > 0"},
+      {"shear_modulus = \"11.5 GPa\"", "shear_modulus = \"-11.5 GPa\"", "materials.block.shear_modulus: must be > 0"},
+      {"shear_modulus = \"11.5 GPa\"", "shear_modulus = \"11.5 m/s\"", "materials.block.shear_modulus"},
+      {"bulk_modulus = \"10.59 GPa\"\n", "", "materials.block.bulk_modulus: required key missing"},
+      {"model = \"linear_elastic\"", "model = \"rubber\"", "unknown material model 'rubber'"},
+      {"material = \"block\"", "material = \"steel\"", "no material named 'steel'"},
+      {"cell_size = \"10 um\"", "cell_size = \"7 um\"", "die.width: must be a whole number of cells"},
+      {"mass_scaling = 100", "mass_scaling = 0.5", "solver.mass_scaling: must be >= 1"},
+      {"mass_scaling = 100", "mass_scaling = \"fast\"", "solver.mass_scaling"},
+      {"integrator = \"usl\"", "integrator = \"rk4\"", "unknown integrator 'rk4'"},
+      {"shape_function = \"ugimp\"", "shape_function = \"cubic\"", "unknown shape function 'cubic'"},
+      {"end_strain = 0.04", "end_strain = 0.7", "run.end_strain: must lie in (0, 0.5)"},
+      {"max = [\"0.04 mm\", \"0.48 mm\"]", "max = [\"0.04 mm\", \"0.58 mm\"]", "lies outside the grid interior"},
+  };
+  for (const auto& c : cases) {
+    const std::string msg = error_of(replace(ok, c.from, c.to));
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << "expected '" << c.expect << "' in: " << msg;
+  }
+}

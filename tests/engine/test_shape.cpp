@@ -1,0 +1,54 @@
+// Shape functions: partition of unity, zero gradient sum, linear field reproduction, and the
+// uGIMP weight equal to the hat averaged over the particle domain.
+#include <gtest/gtest.h>
+
+#include "grid/shape.hpp"
+
+using namespace pbx;
+
+namespace {
+template <Kernel K>
+void check_kernel(double a) {
+  for (double s = 3.0; s < 5.0; s += 0.0137) {
+    int base;
+    std::array<double, 3> w, g;
+    kernel_1d<K>(s, a, 1.0, base, w, g);
+    double sw = 0, sg = 0, sx = 0, sxg = 0;
+    for (int k = 0; k < 3; ++k) {
+      sw += w[k];
+      sg += g[k];
+      sx += w[k] * (base + k);
+      sxg += g[k] * (base + k);
+      EXPECT_GE(w[k], -1e-15);
+    }
+    EXPECT_NEAR(sw, 1.0, 1e-13) << s;
+    EXPECT_NEAR(sg, 0.0, 1e-13) << s;
+    EXPECT_NEAR(sx, s, 1e-13) << s;    // linear completeness
+    EXPECT_NEAR(sxg, 1.0, 1e-13) << s; // gradient of x is 1
+  }
+}
+}  // namespace
+
+TEST(Shape, LinearPartitionOfUnityAndCompleteness) { check_kernel<Kernel::linear>(0.25); }
+TEST(Shape, UgimpPartitionOfUnityAndCompleteness) { check_kernel<Kernel::ugimp>(0.25); }
+TEST(Shape, Bspline2PartitionOfUnityAndCompleteness) { check_kernel<Kernel::bspline2>(0.25); }
+
+TEST(Shape, UgimpEqualsHatAveragedOverParticle) {
+  const double a = 0.25;
+  for (double s = 3.01; s < 4.0; s += 0.07) {
+    int base;
+    std::array<double, 3> w, g;
+    kernel_1d<Kernel::ugimp>(s, a, 1.0, base, w, g);
+    for (int k = 0; k < 3; ++k) {
+      // midpoint rule over [s - a, s + a] of the hat centred at node base + k
+      const int n = 20000;
+      double avg = 0;
+      for (int q = 0; q < n; ++q) {
+        const double x = s - a + (q + 0.5) * 2 * a / n;
+        avg += std::max(0.0, 1.0 - std::abs(x - (base + k)));
+      }
+      avg /= n;
+      EXPECT_NEAR(w[k], avg, 1e-7) << "s=" << s << " k=" << k;
+    }
+  }
+}
