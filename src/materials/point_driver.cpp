@@ -160,7 +160,7 @@ std::vector<PointSample> drive_point(const Material<3>& m, const PointLoad& load
     out.push_back(sample(mp, load.path));
     const Mat3 hold = Mat3::Zero();
     for (int i = 0; i < load.steps; ++i) {
-      const double t = duration * std::pow(10.0, -9.0 + 9.0 * i / (load.steps - 1));
+      const double t = duration * std::pow(10.0, -11.0 + 11.0 * i / (load.steps - 1));
       if (t > mp.time()) mp.step(hold, t - mp.time());
       out.push_back(sample(mp, load.path));
     }
