@@ -22,6 +22,7 @@ struct Grid {
   std::vector<Vec<D>> mom;        // momentum after P2G, then after the contact passes
   std::vector<Vec<D>> mom0;       // momentum as interpolated (FLIP increment base)
   std::vector<Vec<D>> moff;       // sum S m (x_p - x_i): mass centre of the field near the node
+  std::vector<Vec<D>> vgrad;      // sum V_p grad S: volume gradient of the field (contact normals)
   std::vector<Vec<D>> force;      // internal + external force
   std::vector<Vec<D>> vel;        // final nodal velocity of the step (v = p/m)
   std::vector<Vec<D>> dvel;       // velocity increment of the step (FLIP)
@@ -50,6 +51,7 @@ struct Grid {
     mom.assign(size, Vec<D>::Zero());
     mom0.assign(size, Vec<D>::Zero());
     moff.assign(size, Vec<D>::Zero());
+    vgrad.assign(size, Vec<D>::Zero());
     force.assign(size, Vec<D>::Zero());
     vel.assign(size, Vec<D>::Zero());
     dvel.assign(size, Vec<D>::Zero());

@@ -55,6 +55,7 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   half_width_ = 0.5 / sc_.settings.ppc;
   for (auto& m : sc_.materials) cmax_ = std::max(cmax_, m->initial_wave_speed());
   for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
+  track_gradients_ = sc_.deformable_fields > 1;
   static_presence_.resize(sc_.bodies.size());
 }
 
@@ -124,6 +125,7 @@ void Solver<D>::reset_grid() {
   std::fill(g.mass.begin(), g.mass.end(), 0.0);
   std::fill(g.mom.begin(), g.mom.end(), Vec<D>::Zero());
   std::fill(g.moff.begin(), g.moff.end(), Vec<D>::Zero());
+  if (track_gradients_) std::fill(g.vgrad.begin(), g.vgrad.end(), Vec<D>::Zero());
   std::fill(g.force.begin(), g.force.end(), Vec<D>::Zero());
 }
 
@@ -159,12 +161,16 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
         Vec<D>* gp = g.mom.data() + off;
         Vec<D>* gf = g.force.data() + off;
         Vec<D>* go = g.moff.data() + off;
+        Vec<D>* gg = g.vgrad.data() + off;
+        const double vol = P.volume[p];
+        const bool grads = track_gradients_;
         const Vec<D> xs = (P.x[p] - g.origin) * inv_h;  // position in cells
         for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
           if (mass_momentum) {
             gm[i] += S * m;
             gp[i] += S * mv;
             if (track_offsets) go[i] += (S * m * g.h) * (xs - node_cells(i));
+            if (grads) gg[i] += vol * G;
           }
           if (forces) {
             gf[i] += sv * G;

@@ -62,6 +62,7 @@ class Solver {
   double internal_ = 0, dissipated_ = 0;
   double mass_eps_ = 0;
   double half_width_ = 0;  // particle half-width in cells (uGIMP)
+  bool track_gradients_ = false;  // volume gradients for contact normals (several fields)
   std::vector<std::vector<std::pair<long, double>>> static_presence_;
 };
 
