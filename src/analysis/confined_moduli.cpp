@@ -50,6 +50,13 @@ ConfinedModuli confined_moduli(const StressStrainCurve& c, double lo, double hi)
   return m;
 }
 
+ConfinedModuli confined_moduli_volume_average(const StressStrainCurve& c, double lo, double hi) {
+  StressStrainCurve v = c;
+  v.punch_stress = c.vol_axial;
+  v.wall_stress = c.vol_lateral;
+  return confined_moduli(v, lo, hi);
+}
+
 Json ConfinedModuli::to_json() const {
   Json j = Json::object();
   j.set("M_Pa", M);

@@ -25,6 +25,10 @@ struct ConfinedModuli {
   Json to_json() const;
 };
 
+// Primary: M from the punch, lambda from the side walls, lambda_z from the volume average.
 ConfinedModuli confined_moduli(const StressStrainCurve& c, double lo, double hi);
+// The same from the volume averages alone (-<syy> for M, -<sxx> for lambda): the cross-check, and
+// the better estimate when stress waves make the punch reaction ring.
+ConfinedModuli confined_moduli_volume_average(const StressStrainCurve& c, double lo, double hi);
 
 }  // namespace pbx

@@ -71,6 +71,10 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
     o.plateau_lo = w[0];
     o.plateau_hi = w[1];
   }
+  o.window_signal = t.string("window_signal", o.window_signal);
+  if (o.window_signal != "volume_average" && o.window_signal != "punch") {
+    t.fail("window_signal", "must be \"volume_average\" or \"punch\"");
+  }
   o.window_tolerance = t.in_range("window_tolerance", 1e-6, 1.0, o.window_tolerance);
   o.window_min_points = int(t.integer("window_min_points", o.window_min_points));
   if (o.window_min_points < 3) t.fail("window_min_points", "must be >= 3");
@@ -95,11 +99,15 @@ void AnalysisOptions::validate() const {
     throw InputError(fmt::format("plateau window [{}, {}]: needs 0 <= lo < hi", *plateau_lo, *plateau_hi));
   }
   if (!(strength_max_strain > 0)) throw InputError("strength window end strain must be > 0");
+  if (window_signal != "volume_average" && window_signal != "punch") {
+    throw InputError(fmt::format("window signal '{}': must be 'volume_average' or 'punch'", window_signal));
+  }
 }
 
 Json AnalysisOptions::to_json() const {
   Json j = Json::object();
   j.set("linear_window", window_lo ? Json::numbers({*window_lo, *window_hi}) : Json("automatic"));
+  j.set("window_signal", window_signal);
   j.set("window_tolerance", window_tolerance);
   j.set("window_min_points", window_min_points);
   j.set("window_max_strain", window_max_strain);
@@ -146,10 +154,11 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     lw.tolerance = opt.window_tolerance;
     lw.min_points = opt.window_min_points;
     lw.max_strain = opt.window_max_strain;
-    w = find_linear_window(c.strain, c.punch_stress, lw);
+    w = find_linear_window(c.strain, opt.window_signal == "punch" ? c.punch_stress : c.vol_axial, lw);
   }
   if (!w.note.empty()) warnings.push_back(w.note);
   const ConfinedModuli mod = confined_moduli(c, w.lo, w.hi);
+  const ConfinedModuli mod_vol = confined_moduli_volume_average(c, w.lo, w.hi);
 
   StrengthOptions so;
   so.max_strain = opt.strength_max_strain;
@@ -178,8 +187,10 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   win.set("hi", w.hi);
   win.set("points", w.points);
   win.set("automatic", w.automatic);
+  win.set("signal", w.automatic ? opt.window_signal : std::string("by hand"));
   j.set("linear_window", win);
   j.set("moduli", mod.to_json());
+  j.set("moduli_volume_average", mod_vol.to_json());
   j.set("strength", s_punch.to_json());
   j.set("strength_volume_average", s_vol.to_json());
 

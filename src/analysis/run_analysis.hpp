@@ -12,6 +12,9 @@ class DeckTable;
 
 struct AnalysisOptions {
   std::optional<double> window_lo, window_hi;  // linear window by hand (strain)
+  // Curve on which the automatic window is found: "volume_average" (-<syy>, smooth because it
+  // averages over all particles) or "punch" (rings with stress waves in explicit runs).
+  std::string window_signal = "volume_average";
   double window_tolerance = 0.10;
   int window_min_points = 8;
   double window_max_strain = 0.02;

@@ -56,7 +56,7 @@ std::vector<double> scaled_column(const CsvTable& t, const std::string& name) {
 }
 
 struct AnalyzeArgs {
-  std::string dir, window, plateau, options_file;
+  std::string dir, window, plateau, options_file, window_signal;
   double strength_strain = 0, tolerance = 0, ke_ie = -1;
   bool allow_unfinished = false;
 };
@@ -80,6 +80,7 @@ AnalysisOptions analysis_options(const AnalyzeArgs& a) {
   }
   if (a.strength_strain > 0) o.strength_max_strain = a.strength_strain;
   if (a.tolerance > 0) o.window_tolerance = a.tolerance;
+  if (!a.window_signal.empty()) o.window_signal = a.window_signal;
   if (a.ke_ie >= 0) o.ke_ie_limit = a.ke_ie;
   o.allow_unfinished = a.allow_unfinished;
   o.validate();
@@ -90,6 +91,7 @@ void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
   c->add_option("--window", a.window, "linear window LO:HI in strain (default: found automatically)");
   c->add_option("--plateau", a.plateau, "plateau window LO:HI in strain for the yield intersection");
   c->add_option("--strength-strain", a.strength_strain, "compression strength = max stress up to this strain (default 0.03)");
+  c->add_option("--window-signal", a.window_signal, "curve for the automatic window: volume_average (default) or punch");
   c->add_option("--window-tolerance", a.tolerance, "automatic window: allowed drop of the end tangent (default 0.10)");
   c->add_option("--ke-ie-limit", a.ke_ie, "flag runs whose KE/IE exceeds this after the ramp (default 0.05)");
   c->add_option("--options", a.options_file, "TOML file with an [analysis] table (docs/deck/analysis.md)");
@@ -116,6 +118,9 @@ void register_analysis(CLI::App& app) {
     fmt::print("M = {:.4g} GPa, lambda = {:.4g} GPa, K = {:.4g} GPa, G = {:.4g} GPa, E = {:.4g} GPa, nu = {:.4f}\n",
                n({"moduli", "M_Pa"}) / 1e9, n({"moduli", "lambda_Pa"}) / 1e9, n({"moduli", "K_Pa"}) / 1e9,
                n({"moduli", "G_Pa"}) / 1e9, n({"moduli", "E_Pa"}) / 1e9, n({"moduli", "nu"}));
+    fmt::print("from volume averages: M = {:.4g} GPa, K = {:.4g} GPa, G = {:.4g} GPa, E = {:.4g} GPa\n",
+               n({"moduli_volume_average", "M_Pa"}) / 1e9, n({"moduli_volume_average", "K_Pa"}) / 1e9,
+               n({"moduli_volume_average", "G_Pa"}) / 1e9, n({"moduli_volume_average", "E_Pa"}) / 1e9);
     fmt::print("strength = {:.4g} MPa at strain {:.4g}; yield = {:.4g} MPa at strain {:.4g}\n",
                n({"strength", "strength_Pa"}) / 1e6, n({"strength", "strain_at_strength"}),
                n({"strength", "yield_stress_Pa"}) / 1e6, n({"strength", "yield_strain"}));

@@ -44,6 +44,17 @@ def fmt(x, digits=3):
     return f"{x:.{digits}g}"
 
 
+def finite_or_none(o):
+    """JSON has no NaN: not-available values are written as null."""
+    if isinstance(o, float):
+        return o if math.isfinite(o) else None
+    if isinstance(o, dict):
+        return {k: finite_or_none(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [finite_or_none(v) for v in o]
+    return o
+
+
 def ratio(ours, paper):
     if ours is None or paper is None or not math.isfinite(ours) or not paper:
         return NAN
@@ -525,7 +536,7 @@ def main():
         }
         card["elastic"] = {str(k): v for k, v in card["elastic"].items()}
         with open(os.path.join(out, "model_card.json"), "w") as f:
-            json.dump(card, f, indent=2, allow_nan=False, default=lambda o: None)
+            json.dump(finite_or_none(card), f, indent=2, allow_nan=False, default=lambda o: None)
         eg = np.linspace(w[0], w[1], 51)
         with open(os.path.join(out, "model_card_curves.csv"), "w", newline="") as f:
             wtr = csv.writer(f)
