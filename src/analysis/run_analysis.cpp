@@ -201,6 +201,12 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   agree.set("lambda_relative_difference", (mod.lateral_vol.slope - mod.lambda) / mod.lambda);
   agree.set("strength_relative_difference", (s_vol.strength - s_punch.strength) / s_punch.strength);
   j.set("agreement", agree);
+  const CurveDiscrepancy axial = curve_discrepancy(c.strain, c.punch_stress, c.vol_axial, ramp);
+  if (axial.rms_relative > 0.05) {
+    warnings.push_back(fmt::format("punch stress and volume-averaged -syy differ by {:.3g} % rms (of the maximum): "
+                                   "the punch reaction rings or the specimen is not in equilibrium",
+                                   100 * axial.rms_relative));
+  }
 
   double ke_max = 0;
   int above = 0, n_after = 0;

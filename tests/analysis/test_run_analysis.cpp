@@ -1,8 +1,11 @@
 // The analysis pipeline on synthetic confined-compression histories with known moduli.
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <fstream>
 #include <functional>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -17,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("pbx_test_analysis_" + name);
+  fs::path p = fs::temp_directory_path() / ("pbx_test_analysis_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
 }
@@ -56,6 +59,7 @@ TEST(RunAnalysis, HomogeneousElasticBlockGivesBackKGE) {
   // A purely linear curve: the window runs to the end, no yield is found.
   EXPECT_NEAR(at(a, {"linear_window", "hi"}), 0.005, 1e-9);
   EXPECT_TRUE(a.find("strength")->find("yield_stress_Pa")->is_null());
+  fs::remove_all(dir);
 }
 
 // Paper Table 2 at 293 K (K = 2.79, G = 1.30 GPa) softening onto Eq. 14: the window stops before
@@ -89,6 +93,7 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
   // KE/IE is 0.3 only inside the ramp: not flagged.
   EXPECT_FALSE(a.find("quasi_static")->find("flagged")->as_bool());
   EXPECT_NEAR(at(a, {"quasi_static", "ke_ie_max_after_ramp"}), 0.01, 1e-12);
+  fs::remove_all(dir);
 }
 
 TEST(RunAnalysis, OverriddenWindowAndNamedErrors) {
@@ -117,6 +122,8 @@ TEST(RunAnalysis, OverriddenWindowAndNamedErrors) {
   { std::ofstream(bad / "history.csv") << "step,strain\n0,0\n"; }
   { std::ofstream(bad / "run.json") << R"({"status": "finished"})"; }
   EXPECT_NE(error_of([&] { analyze_run(bad.string(), {}); }).find("no column 'punch_stress_Pa'"), std::string::npos);
+  fs::remove_all(dir);
+  fs::remove_all(bad);
 }
 
 TEST(LinearWindow, NoisyLinearCurveKeepsTheWholeWindowAndBilinearStopsAtTheKnee) {

@@ -1,7 +1,10 @@
 // A report from a small synthetic study directory, and the message for an incomplete one.
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <fstream>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -15,7 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 // Paper Table 2 (K, G) and Table 3 (strength) per temperature; Eq. 21-22 per density.
 fs::path make_study(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("pbx_test_study_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("pbx_test_study_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir / "runs");
   std::string runs;
@@ -72,6 +75,7 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   EXPECT_NE(text.find("2.357"), std::string::npos);
   EXPECT_NE(text.find("reproduced by neither"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "runs" / "T333_s1" / "analysis.json"));
+  if (!HasFailure()) fs::remove_all(dir);
 }
 
 TEST(StudyReport, IncompleteStudyNamesWhatIsMissing) {
@@ -99,4 +103,5 @@ TEST(StudyReport, IncompleteStudyNamesWhatIsMissing) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("study.json: missing"), std::string::npos) << e.what();
   }
+  fs::remove_all(dir);
 }
