@@ -98,6 +98,36 @@ void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
   c->add_flag("--allow-unfinished", a.allow_unfinished, "analyse runs whose run.json status is not 'finished'");
 }
 
+struct StudyArgs {
+  std::string T0, eq14_window, GU, KU, rho0;
+  double confidence = 0.95;
+};
+
+void add_study_flags(CLI::App* c, StudyArgs& a) {
+  c->add_option("--T0", a.T0, "reference temperature of Eq. 13/14 (default 293 K)");
+  c->add_option("--eq14-window", a.eq14_window, "Eq. 14 fitting window LO:HI in percent strain (default 0.5:3)");
+  c->add_option("--GU", a.GU, "upper-bound shear modulus G^U of Eq. 21 (default 10.84 GPa)");
+  c->add_option("--KU", a.KU, "upper-bound bulk modulus K^U of Eq. 22 (default 10.52 GPa)");
+  c->add_option("--rho0", a.rho0, "theoretical maximum density (default: the runs' tmd_kg_m3, else 1942 kg/m3)");
+  c->add_option("--confidence", a.confidence, "confidence level of the intervals (default 0.95)");
+}
+
+void apply_study_flags(const StudyArgs& a, StudyFitOptions& o) {
+  if (!a.T0.empty()) o.T0_K = quantity_option(a.T0, dim::temperature, "--T0");
+  if (!a.eq14_window.empty()) {
+    auto [lo, hi] = range_option(a.eq14_window, "--eq14-window");
+    if (!(hi > lo && lo > 0)) throw InputError("--eq14-window: needs 0 < LO < HI (percent strain)");
+    o.eq14_lo_percent = lo;
+    o.eq14_hi_percent = hi;
+  }
+  if (!a.GU.empty()) o.GU = quantity_option(a.GU, dim::pressure, "--GU");
+  if (!a.KU.empty()) o.KU = quantity_option(a.KU, dim::pressure, "--KU");
+  if (!a.rho0.empty()) o.rho0 = quantity_option(a.rho0, dim::density, "--rho0");
+  if (!(a.confidence > 0 && a.confidence < 1)) throw InputError("--confidence: must lie in (0, 1)");
+  o.confidence = a.confidence;
+  if (!(o.T0_K > 0) || !(o.GU > 0) || !(o.KU > 0)) throw InputError("--T0, --GU and --KU must be > 0");
+}
+
 }  // namespace
 
 void register_analysis(CLI::App& app) {
@@ -248,8 +278,11 @@ void register_analysis(CLI::App& app) {
   fs->add_option("STUDY_DIR", sa->dir, "study directory (study.json, runs/)")->required();
   fs->add_option("--out", oa->out, "output file (default STUDY_DIR/fits.json)");
   add_analysis_flags(fs, *sa);
-  fs->callback([sa, oa] {
+  auto fsa = std::make_shared<StudyArgs>();
+  add_study_flags(fs, *fsa);
+  fs->callback([sa, oa, fsa] {
     StudyFitOptions o;
+    apply_study_flags(*fsa, o);
     o.analysis = analysis_options(*sa);
     const Json j = fit_study(load_study(sa->dir, o), o);
     const std::string out = oa->out.empty() ? sa->dir + "/fits.json" : oa->out;
@@ -266,7 +299,10 @@ void register_analysis(CLI::App& app) {
   rep->add_flag("--reuse-analysis", ro->fits.reuse_analysis, "use the runs' existing analysis.json files");
   rep->add_option("--python", ro->python, "Python interpreter with numpy and matplotlib")->default_val("/usr/bin/python3");
   add_analysis_flags(rep, *ra);
-  rep->callback([ra, ro] {
+  auto rsa = std::make_shared<StudyArgs>();
+  add_study_flags(rep, *rsa);
+  rep->callback([ra, ro, rsa] {
+    apply_study_flags(*rsa, ro->fits);
     ro->fits.analysis = analysis_options(*ra);
     const std::string out = build_report(ra->dir, *ro);
     fmt::print("report written to {}/report.html (and report.md)\n", out);
