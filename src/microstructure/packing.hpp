@@ -51,6 +51,8 @@ struct Packing {
   double contact_gap = 0;                       // m, used for the colouring
   std::string source = "generated";             // or the imported image's file name
   PhaseImage image;                             // only for imported packings (nx > 0)
+  int grains_shrunk = 0;                        // grains reduced to remove the last overlaps
+  double max_shrink = 0;                        // largest relative diameter reduction (<= 1 %)
   PackingStats stats;                           // measured on the geometry, see measure()
 };
 
