@@ -33,10 +33,10 @@ RgbImage picture(const Packing& p) {
     for (int i = 0; i < img.width; ++i) {
       const PhaseHit h = map.at({(i + 0.5) * px, (img.height - j - 0.5) * px});
       std::uint8_t* c = &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)];
-      if (h.phase == Phase::tatb) {
+      if (h.phase == MesoPhase::tatb) {
         const int col = p.grains[h.grain].colour;
         std::copy_n(kPalette[col % 8], 3, c);
-      } else if (h.phase == Phase::binder) {
+      } else if (h.phase == MesoPhase::binder) {
         c[0] = 30, c[1] = 90, c[2] = 40;
       }
     }

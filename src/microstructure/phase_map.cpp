@@ -33,8 +33,8 @@ PhaseHit PhaseMap::at(const Eigen::Vector2d& x) const {
     const int i = std::min(im.nx - 1, static_cast<int>(x.x() / im.pixel));
     const int j = std::min(im.ny - 1, static_cast<int>(x.y() / im.pixel));
     const int l = im.label[static_cast<std::size_t>(j) * im.nx + i];
-    if (l >= 0) return {Phase::tatb, l};
-    return {l == -1 ? Phase::binder : Phase::void_, -1};
+    if (l >= 0) return {MesoPhase::tatb, l};
+    return {l == -1 ? MesoPhase::binder : MesoPhase::void_, -1};
   }
   const int i = std::min(nx_ - 1, static_cast<int>(x.x() / bucket_));
   const int j = std::min(ny_ - 1, static_cast<int>(x.y() / bucket_));
@@ -44,8 +44,8 @@ PhaseHit PhaseMap::at(const Eigen::Vector2d& x) const {
     const double r2 = (x - d.centre).squaredNorm();
     if (r2 >= d.radius * d.radius) continue;
     const double core = 0.5 * p_.grains[d.grain].diameter;
-    if (r2 < core * core) return {Phase::tatb, d.grain};
-    hit.phase = Phase::binder;
+    if (r2 < core * core) return {MesoPhase::tatb, d.grain};
+    hit.phase = MesoPhase::binder;
   }
   return hit;
 }

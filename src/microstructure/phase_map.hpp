@@ -10,10 +10,10 @@
 
 namespace pbx {
 
-enum class Phase { tatb = 0, binder = 1, void_ = 2 };
+enum class MesoPhase { tatb = 0, binder = 1, void_ = 2 };
 
 struct PhaseHit {
-  Phase phase = Phase::void_;
+  MesoPhase phase = MesoPhase::void_;
   int grain = -1;  // grain index for TATB, -1 otherwise
 };
 

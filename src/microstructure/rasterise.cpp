@@ -23,8 +23,8 @@ std::vector<ParticleSeed> rasterise(const Packing& p, double cell_size, int ppc,
         for (int si = 0; si < ppc; ++si) {
           const Eigen::Vector2d x{ci * cell_size + (si + 0.5) * h, cj * cell_size + (sj + 0.5) * h};
           const PhaseHit hit = map.at(x);
-          if (hit.phase == Phase::void_) continue;
-          const bool tatb = hit.phase == Phase::tatb;
+          if (hit.phase == MesoPhase::void_) continue;
+          const bool tatb = hit.phase == MesoPhase::tatb;
           out.push_back({origin + x, h * h, tatb ? 0 : 1, tatb ? hit.grain : -1,
                          tatb ? p.grains[hit.grain].colour : -1});
         }
