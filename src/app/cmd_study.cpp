@@ -1,8 +1,37 @@
-// Placeholder registration; the sub-commands of this file are added by their module's issue.
+// `pbxmpm study DECK`: the paper study (or any sweep) end to end.
+#include <stdexcept>
+
 #include <CLI/CLI.hpp>
 
 #include "app/commands.hpp"
+#include "core/error.hpp"
+#include "study/study.hpp"
 
 namespace pbx::app {
-void register_study(CLI::App&) {}
+
+void register_study(CLI::App& app) {
+  struct Args {
+    std::string deck, out;
+    int threads = 0;
+    bool no_report = false, quiet = false;
+  };
+  auto a = std::make_shared<Args>();
+  auto* st = app.add_subcommand("study", "Run a study deck (runs x seeds, MPI-aware, resumable), analyse, fit and report");
+  st->add_option("deck", a->deck, "study deck (TOML with a [study] table)")->required()->check(CLI::ExistingFile);
+  st->add_option("--out,-o", a->out, "study directory (default: out/<study name>)");
+  st->add_option("--threads,-t", a->threads, "OpenMP threads per run")->check(CLI::PositiveNumber);
+  st->add_flag("--no-report", a->no_report, "skip the report at the end");
+  st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");
+  st->callback([a] {
+    StudySpec s = read_study(a->deck);
+    StudyOptions o;
+    o.out_dir = a->out.empty() ? "out/" + s.name : a->out;
+    o.threads = a->threads;
+    o.report = !a->no_report;
+    o.progress = !a->quiet;
+    const int failed = run_study(s, o);
+    if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
+  });
+}
+
 }  // namespace pbx::app

@@ -27,7 +27,7 @@ Deck Deck::from_string(const std::string& text, const std::string& name) {
   Deck d;
   d.impl_->name = name;
   d.impl_->text = text;
-  d.impl_->dir = ".";
+  d.impl_->dir.assign(1, '.');
   try {
     d.impl_->root = toml::parse(text, name);
   } catch (const toml::parse_error& e) {

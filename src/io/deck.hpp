@@ -29,6 +29,9 @@ class DeckTable {
   std::vector<double> quantities(const std::string& key, const Dimension& d) const;
   std::vector<std::string> strings(const std::string& key) const;
 
+  // Marks a key as read whatever its type (values checked elsewhere, e.g. study overrides).
+  void accept(const std::string& key) const { child(key); }
+
   DeckTable table(const std::string& key) const;  // required sub-table
   std::optional<DeckTable> optional_table(const std::string& key) const;
   std::vector<DeckTable> tables(const std::string& key) const;  // array of tables ([[key]])

@@ -217,6 +217,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "ramp_strain": {},
   "end_strain": {},
   "specimen": {},
+  "study": {},
   "materials": [{}],
   "units": "SI; 2-D quantities are per metre of depth",
   "deck": {}
@@ -226,7 +227,8 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
       sc_.grid.fields, solver_.step_count(), solver_.time(), wall,
       wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(), sc_.control.temperature,
-      sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen, mats,
+      sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen,
+      opt_.study_json.empty() ? "null" : opt_.study_json, mats,
       opt_.deck_json.empty() ? "null" : opt_.deck_json);
 }
 

@@ -30,6 +30,7 @@ struct RunOptions {
   int threads = 0;              // 0: OpenMP default
   bool progress = true;
   std::string deck_json;        // the validated deck (for run.json)
+  std::string study_json;       // {"group": ..., ...} when the run belongs to a study
 };
 
 template <int D>

@@ -9,6 +9,8 @@
 
 #include "core/error.hpp"
 #include "io/deck.hpp"
+#include "microstructure/packing.hpp"
+#include "microstructure/rasterise.hpp"
 
 namespace pbx {
 
@@ -192,16 +194,67 @@ Scene<D> build_scene(const Deck& deck) {
   }
   if (sc.materials.empty()) mats.fail("", "at least one material is required");
 
+  // ---- a packed specimen ([specimen] + [packing]) fills the die; [[geometry]] entries add bodies
+  std::map<std::string, int> field_index;
+  const int ppc = sc.settings.ppc;
+  sc.grid.stride[0] = 1;
+  for (int d = 1; d < D; ++d) sc.grid.stride[d] = sc.grid.stride[d - 1] * sc.grid.n[d - 1];
+  if (auto spec_t = root.optional_table("specimen")) {
+    if constexpr (D == 2) {
+      if (!sc.die) spec_t->fail("grain_material", "a packed specimen needs a [die]");
+      auto material_of = [&](const char* key) {
+        const std::string name = spec_t->string(key);
+        auto it = mat_index.find(name);
+        if (it == mat_index.end()) spec_t->fail(key, fmt::format("no material named '{}' in [materials]", name));
+        return it->second;
+      };
+      const int grain_mat = material_of("grain_material"), binder_mat = material_of("binder_material");
+      const std::string fields = spec_t->string("grain_fields", "colours");
+      if (fields != "colours" && fields != "single") spec_t->fail("grain_fields", "must be 'colours' or 'single'");
+      Packing packing;
+      if (spec_t->has("packing_dir")) {
+        packing = read_packing(deck.resolve(spec_t->string("packing_dir")));
+      } else {
+        PackingSpec ps = read_packing_spec(root.table("packing"));
+        if (spec_t->has("seed")) ps.seed = static_cast<std::uint64_t>(spec_t->integer("seed"));
+        packing = generate_packing(ps);
+      }
+      for (int d = 0; d < 2; ++d) {
+        const double want = d == 0 ? sc.die->width : sc.die->height;
+        if (std::abs(packing.box[d] - want) > 1e-9 * want)
+          spec_t->fail("grain_material", fmt::format("the packing box ({} x {} m) differs from the die ({} x {} m)",
+                                                     packing.box[0], packing.box[1], sc.die->width, sc.die->height));
+      }
+      sc.packing_stats = packing.stats;
+      auto field_of = [&](const std::string& fname) {
+        auto [fit, inserted] = field_index.try_emplace(fname, static_cast<int>(field_index.size()));
+        if (inserted) sc.field_names.push_back(fname);
+        return fit->second;
+      };
+      const int binder_field = field_of(sc.material_names[binder_mat]);
+      for (const ParticleSeed& seed : rasterise(packing, h, ppc, Eigen::Vector2d::Zero())) {
+        const bool grain = seed.phase == 0;
+        const int mat = grain ? grain_mat : binder_mat;
+        const int fld = !grain ? binder_field
+                               : field_of(fields == "single" ? sc.material_names[grain_mat]
+                                                             : fmt::format("{}_{}", sc.material_names[grain_mat], seed.colour));
+        sc.particles.add(seed.x, seed.volume, seed.volume * sc.materials[mat]->density(), mat, fld);
+      }
+    } else {
+      spec_t->fail("grain_material", "packed specimens are 2-D");
+    }
+  }
+
   // ---- geometry -> particles (first geometry containing a sub-cell centre wins)
   std::vector<DeckTable> geoms = root.tables("geometry");
-  if (geoms.empty()) root.fail("geometry", "at least one [[geometry]] entry is required");
+  if (geoms.empty() && sc.particles.size() == 0)
+    root.fail("geometry", "at least one [[geometry]] entry (or a [specimen]) is required");
   struct Geo {
     Shape<D> shape;
     int material, field;
     Vec<D> velocity;
   };
   std::vector<Geo> gs;
-  std::map<std::string, int> field_index;
   Vec<D> lo = Vec<D>::Constant(1e300), hi = Vec<D>::Constant(-1e300);
   for (auto& g : geoms) {
     Geo geo;
@@ -220,11 +273,8 @@ Scene<D> build_scene(const Deck& deck) {
     gs.push_back(std::move(geo));
   }
   sc.deformable_fields = static_cast<int>(sc.field_names.size());
-  const int ppc = sc.settings.ppc;
   const double pvol = std::pow(h / ppc, D);
-  sc.grid.stride[0] = 1;
-  for (int d = 1; d < D; ++d) sc.grid.stride[d] = sc.grid.stride[d - 1] * sc.grid.n[d - 1];
-  seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
+  if (!gs.empty()) seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
     for (auto& g : gs) {
       if (!g.shape.contains(x)) continue;
       const std::size_t p = sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
@@ -318,6 +368,16 @@ Scene<D> build_scene(const Deck& deck) {
     auto& st = sc.material_state[m];
     st.history.assign(st.index.size() * static_cast<std::size_t>(hs), 0.0);
     for (std::size_t k = 0; k < st.index.size(); ++k) sc.materials[m]->init_history(st.history.data() + k * hs);
+  }
+
+  // ---- contact between deformable fields (issue 4): laws per pair of materials
+  {
+    std::vector<int> field_material(static_cast<std::size_t>(sc.deformable_fields), -2);
+    for (std::size_t p = 0; p < sc.particles.size(); ++p) {
+      int& fm = field_material[static_cast<std::size_t>(sc.particles.field[p])];
+      fm = (fm == -2 || fm == sc.particles.material[p]) ? sc.particles.material[p] : -1;  // -1: mixed
+    }
+    sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
   }
 
   sc.grid.allocate(sc.deformable_fields + static_cast<int>(sc.bodies.size()));

@@ -7,9 +7,11 @@
 #include <vector>
 
 #include "bodies/rigid_body.hpp"
+#include "contact/contact_matrix.hpp"
 #include "grid/grid.hpp"
 #include "grid/shape.hpp"
 #include "materials/material.hpp"
+#include "microstructure/packing.hpp"
 #include "particles/particles.hpp"
 
 namespace pbx {
@@ -64,7 +66,9 @@ struct Scene {
   std::vector<std::string> field_names;  // deformable fields, then one per rigid body
   int deformable_fields = 0;
   std::vector<RigidBody<D>> bodies;
+  ContactMatrix contact;  // laws between deformable fields ([contact] table; all weld by default)
   std::optional<Die> die;
+  std::optional<PackingStats> packing_stats;  // geometric statistics of a packed specimen
   std::string description;
 };
 

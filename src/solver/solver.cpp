@@ -239,7 +239,12 @@ void Solver<D>::contact(bool record) {
       }
     }
   }
-  weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
+  if (sc_.contact.fields < 2 || sc_.contact.all_weld()) {
+    weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
+  } else {
+    const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_);
+    if (record) dissipated_ += friction;
+  }
 }
 
 template <int D>

@@ -1,0 +1,283 @@
+#include "study/study.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <omp.h>
+#include <toml++/toml.h>
+#include <unistd.h>
+
+#ifdef PBXMPM_HAVE_MPI
+#include <mpi.h>
+#endif
+
+#include "analysis/run_analysis.hpp"
+#include "analysis/study_report.hpp"
+#include "core/error.hpp"
+#include "io/deck.hpp"
+#include "solver/runner.hpp"
+
+namespace pbx {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string node_text(const toml::node& n) {
+  std::stringstream ss;
+  if (auto* s = n.as_string()) {
+    ss << toml::value<std::string>(s->get());
+    return ss.str();
+  }
+  if (auto* f = n.as_floating_point()) return fmt::format("{}", f->get());  // shortest round-trip form
+  n.visit([&](auto&& v) { ss << v; });
+  return ss.str();
+}
+
+// JSON string literal of a text (quotes and backslashes escaped).
+std::string json_quote(const std::string& t) {
+  std::string out = "\"";
+  for (char c : t) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string label_of(const std::string& value_text) {
+  std::string out;
+  for (char c : value_text)
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-') out += c;
+  return out.empty() ? "v" : out;
+}
+
+struct Mpi {
+  int rank = 0, size = 1;
+  bool owns = false;
+  Mpi() {
+#ifdef PBXMPM_HAVE_MPI
+    int init = 0;
+    MPI_Initialized(&init);
+    // Only join MPI when launched by mpirun (a plain run needs no MPI runtime at all).
+    if (!init && (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE"))) {
+      MPI_Init(nullptr, nullptr);
+      owns = true;
+      init = 1;
+    }
+    if (init) {
+      MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+      MPI_Comm_size(MPI_COMM_WORLD, &size);
+    }
+#endif
+  }
+  void barrier() const {
+#ifdef PBXMPM_HAVE_MPI
+    if (size > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+  }
+  int sum(int v) const {
+#ifdef PBXMPM_HAVE_MPI
+    if (size > 1) {
+      int out = 0;
+      MPI_Allreduce(&v, &out, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+      return out;
+    }
+#endif
+    return v;
+  }
+  ~Mpi() {
+#ifdef PBXMPM_HAVE_MPI
+    if (owns) MPI_Finalize();
+#endif
+  }
+};
+
+bool finished(const fs::path& dir) {
+  std::ifstream f(dir / "run.json");
+  if (!f || !fs::exists(dir / "analysis.json")) return false;
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str().find("\"status\": \"finished\"") != std::string::npos;
+}
+
+}  // namespace
+
+StudySpec read_study(const std::string& file) {
+  Deck deck = Deck::from_file(file);
+  const DeckTable st = deck.root().table("study");
+  StudySpec s;
+  s.name = st.string("name");
+  s.base_deck = fs::absolute(deck.resolve(st.string("base"))).string();
+  {
+    std::ifstream in(s.base_deck);
+    if (!in) st.fail("base", fmt::format("cannot open base deck '{}'", s.base_deck));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    s.base_text = ss.str();
+  }
+  std::vector<long> seeds = {1};
+  if (st.has("seeds")) {
+    seeds.clear();
+    for (double v : st.quantities("seeds", dim::none)) {
+      if (v != static_cast<double>(static_cast<long>(v)) || v < 0) st.fail("seeds", "must be non-negative integers");
+      seeds.push_back(static_cast<long>(v));
+    }
+    if (seeds.empty()) st.fail("seeds", "must list at least one seed");
+  }
+  // Overrides are kept as TOML text; the toml++ tree of the study deck gives them back verbatim.
+  const toml::table tree = toml::parse(deck.text(), file);
+  auto overrides_of = [&](const toml::table* t) {
+    std::vector<std::pair<std::string, std::string>> out;
+    if (!t) return out;
+    for (auto&& [k, v] : *t) out.emplace_back(std::string(k.str()), node_text(v));
+    return out;
+  };
+  // mark the [set] tables used (their keys are deck keys checked when each run is built)
+  std::vector<std::pair<std::string, std::string>> common;
+  if (auto set = st.optional_table("set")) {
+    for (auto& k : set->keys()) set->accept(k);
+  }
+  common = overrides_of(tree["study"]["set"].as_table());
+  const auto groups = st.tables("group");
+  if (groups.empty()) st.fail("group", "at least one [[study.group]] is required");
+  const toml::array* garr = tree["study"]["group"].as_array();
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    const DeckTable& g = groups[gi];
+    const std::string gname = g.string("name");
+    const std::string key = g.string("key");
+    const toml::table& gt = *garr->get(gi)->as_table();
+    const toml::array* values = gt["values"].as_array();
+    g.accept("values");
+    if (!values || values->empty()) g.fail("values", "required: an array of at least one value");
+    auto gset = overrides_of(gt["set"].as_table());
+    if (auto set = g.optional_table("set"))
+      for (auto& k : set->keys()) set->accept(k);
+    for (const auto& v : *values) {
+      const std::string text = node_text(v);
+      for (long seed : seeds) {
+        StudyRunSpec r;
+        r.group = gname;
+        r.value_label = text;
+        r.seed = seed;
+        r.id = fmt::format("{}-{}-s{}", gname, label_of(text), seed);
+        r.set = common;
+        r.set.insert(r.set.end(), gset.begin(), gset.end());
+        r.set.emplace_back(key, text);
+        r.set.emplace_back("specimen.seed", std::to_string(seed));
+        s.runs.push_back(std::move(r));
+      }
+    }
+  }
+  deck.check_unused();
+  return s;
+}
+
+std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
+  toml::table base;
+  try {
+    base = toml::parse(s.base_text, s.base_deck);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}: {}", s.base_deck, e.source().begin.line, e.description()));
+  }
+  for (const auto& [key, text] : r.set) {
+    // dotted key: walk/create tables, then parse the value text as TOML
+    toml::table* t = &base;
+    std::size_t start = 0, dot;
+    while ((dot = key.find('.', start)) != std::string::npos) {
+      const std::string part = key.substr(start, dot - start);
+      if (!t->contains(part)) t->insert(part, toml::table{});
+      t = (*t)[part].as_table();
+      if (!t) throw InputError(fmt::format("study override '{}': '{}' is not a table in the base deck", key, part));
+      start = dot + 1;
+    }
+    const std::string leaf = key.substr(start);
+    if (key == "specimen.seed" && !base.contains("specimen")) continue;
+    toml::table v;
+    try {
+      v = toml::parse("v = " + text);
+    } catch (const toml::parse_error& e) {
+      throw InputError(fmt::format("study override '{}': cannot read value '{}'", key, text));
+    }
+    t->insert_or_assign(leaf, *v.get("v"));
+  }
+  std::stringstream ss;
+  ss << fmt::format("# generated by pbxmpm study from {}\n", s.base_deck) << base << "\n";
+  return ss.str();
+}
+
+int run_study(const StudySpec& s, const StudyOptions& opt) {
+  Mpi mpi;
+  const fs::path out = fs::absolute(opt.out_dir);
+  fs::create_directories(out / "runs");
+  // study.json first, so a report can name what is missing from an interrupted study
+  if (mpi.rank == 0) {
+    std::ofstream f(out / "study.json");
+    f << "{\n  \"name\": \"" << s.name << "\",\n  \"base\": \"" << s.base_deck << "\",\n  \"runs\": [\n";
+    for (std::size_t i = 0; i < s.runs.size(); ++i) {
+      const auto& r = s.runs[i];
+      f << fmt::format("    {{\"id\": \"{}\", \"dir\": \"runs/{}\", \"group\": \"{}\", \"value\": {}, \"seed\": {}}}{}\n", r.id,
+                       r.id, r.group, json_quote(r.value_label), r.seed, i + 1 < s.runs.size() ? "," : "");
+    }
+    f << "  ]\n}\n";
+  }
+  mpi.barrier();
+  const auto t0 = std::chrono::steady_clock::now();
+  int failed = 0, done = 0, mine = 0;
+  for (std::size_t i = 0; i < s.runs.size(); ++i)
+    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) == mpi.rank) ++mine;
+  for (std::size_t i = 0; i < s.runs.size(); ++i) {
+    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) != mpi.rank) continue;
+    const auto& r = s.runs[i];
+    const fs::path dir = out / "runs" / r.id;
+    ++done;
+    if (finished(dir)) {
+      std::fprintf(stderr, "pbxmpm study: [%d/%d] %s already finished, skipped\n", done, mine, r.id.c_str());
+      continue;
+    }
+    fs::create_directories(dir);
+    const std::string text = run_deck_text(s, r);
+    { std::ofstream(dir / "deck.toml") << text; }
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank, elapsed);
+    try {
+      Deck deck = Deck::from_file((dir / "deck.toml").string());
+      Scene<2> scene = build_scene<2>(deck);
+      deck.check_unused();
+      RunOptions ro;
+      ro.out_dir = dir.string();
+      ro.threads = opt.threads;
+      ro.progress = opt.progress;
+      ro.deck_json = deck.to_json();
+      double mass = 0;
+      for (double m : scene.particles.mass) mass += m;
+      const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
+      ro.study_json = fmt::format(R"({{"study": "{}", "id": "{}", "group": "{}", "value": {}, "temperature_K": {}, "density_g_cm3": {:.6g}, "seed": {}}})",
+                                  s.name, r.id, r.group, json_quote(r.value_label), scene.control.temperature,
+                                  rho / 1000.0, r.seed);
+      Runner<2> runner(scene, ro);
+      runner.run();
+      analyze_run_to_file(dir.string(), AnalysisOptions{});
+    } catch (const std::exception& e) {
+      ++failed;
+      std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
+    }
+  }
+  failed = mpi.sum(failed);
+  mpi.barrier();
+  if (mpi.rank == 0) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "pbxmpm study: %zu runs, %d failed, %.0f s\n", s.runs.size(), failed, elapsed);
+    if (opt.report && failed == 0) {
+      ReportOptions rep;
+      rep.fits.reuse_analysis = true;
+      const std::string dir = build_report(out.string(), rep);
+      std::fprintf(stderr, "pbxmpm study: report in %s/report.html\n", dir.c_str());
+    }
+  }
+  return failed;
+}
+
+}  // namespace pbx

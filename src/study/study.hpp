@@ -1,0 +1,44 @@
+#pragma once
+// A study: one base deck and a list of runs (groups of values of one deck key, times seeds),
+// each run a whole die-compression simulation followed by its analysis. Runs are spread over MPI
+// ranks (rank r takes runs r, r + n, ...; OpenMP inside each run); without MPI they run in turn.
+// A study that stops can be started again: finished runs (run.json "finished" and analysis.json
+// present) are skipped. Layout: STUDY/study.json, STUDY/runs/<id>/{deck.toml, history.csv,
+// run.json, analysis.json, snapshots/}, STUDY/report/.
+#include <string>
+#include <vector>
+
+namespace pbx {
+
+struct StudyRunSpec {
+  std::string id;
+  std::string group;
+  std::string value_label;                                // as written in the study deck
+  long seed = 1;
+  std::vector<std::pair<std::string, std::string>> set;   // dotted key -> TOML value text
+};
+
+struct StudySpec {
+  std::string name;
+  std::string base_deck;   // absolute path
+  std::string base_text;
+  std::vector<StudyRunSpec> runs;
+};
+
+// Reads and validates a study deck (unknown keys are errors naming the key).
+StudySpec read_study(const std::string& file);
+
+// The base deck with the run's overrides applied, as TOML text.
+std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r);
+
+struct StudyOptions {
+  std::string out_dir;
+  int threads = 0;
+  bool report = true;
+  bool progress = true;
+};
+
+// Runs (or resumes) the study; returns the number of runs that failed.
+int run_study(const StudySpec& s, const StudyOptions& opt);
+
+}  // namespace pbx
