@@ -62,3 +62,16 @@ TEST(MaterialExamples, UniaxialStressOfAnElasticSolidGivesYoungsModulus) {
   write_point_csv(csv, out);
   EXPECT_EQ(csv.str().substr(0, 26), "time_s,strain,volume_ratio");
 }
+
+// The engine writes history variables by name: one name per stored double, in 2D and 3D.
+TEST(MaterialExamples, HistoryNamesMatchHistorySize) {
+  for (const char* name : {"tatb", "f2314"}) {
+    auto m2 = example<2>(name);
+    auto m3 = example<3>(name);
+    EXPECT_EQ(static_cast<int>(m2->history_names().size()), m2->history_size()) << name;
+    EXPECT_EQ(static_cast<int>(m3->history_names().size()), m3->history_size()) << name;
+  }
+  EXPECT_EQ(example<2>("tatb")->history_size(), 4);   // plastic strain + E, J, p
+  EXPECT_EQ(example<2>("f2314")->history_size(), 24);  // 8 branches x (m, d, xy)
+  EXPECT_EQ(example<3>("f2314")->history_size(), 48);  // 8 branches x 6
+}
