@@ -1,0 +1,66 @@
+// A piston driven at constant speed v into a TATB column (paper Table 1: J2 + Mie-Grueneisen) in
+// the die (uniaxial strain): behind the elastic front the stress is rho0 c_L v, with
+// c_L = sqrt((rho0 c^2 + 4G/3)/rho0) = 3661 m/s, and the front reaches the bottom wall after H/c_L,
+// where the reflection doubles the stress (notes/physics.md 8.2).
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "scene_fixture.hpp"
+
+using namespace pbx;
+
+TEST(PistonWave, ElasticWaveStressAndArrivalInTatb) {
+  std::ifstream f(std::string(PBXMPM_EXAMPLES_DIR) + "/materials/tatb.toml");
+  ASSERT_TRUE(f) << "examples/materials/tatb.toml";
+  std::stringstream tatb;
+  tatb << f.rdbuf();
+  const double H = 0.96e-3, v = 1.0, rho0 = 1934, c = 2340, G = 11.5e9;
+  const double cL = std::sqrt((rho0 * c * c + 4 * G / 3) / rho0);
+  const double t_arrival = H / cL, sigma = rho0 * cL * v;
+  const std::string deck = R"(
+[run]
+end_strain = 5.0e-4
+history_points = 400
+snapshots = 0
+[grid]
+cell_size = "10 um"
+[solver]
+cfl = 0.4
+[die]
+width = "0.04 mm"
+height = "0.96 mm"
+punch_velocity = "1 m/s"
+ramp_strain = 0.0
+[[geometry]]
+min = ["0 mm", "0 mm"]
+max = ["0.04 mm", "0.96 mm"]
+material = "tatb"
+)" + tatb.str();
+  Scene<2> sc = test::scene_from(deck);
+  ASSERT_GT(sc.control.end_time, 1.5 * t_arrival);
+  Runner<2> r(sc, test::quiet());
+  std::vector<Measurement> rows;
+  r.run([&](const Measurement& m) { rows.push_back(m); });
+  // punch stress while only the incident wave exists: 0.3 .. 0.9 of the transit time
+  double sum = 0;
+  int n = 0;
+  for (auto& m : rows)
+    if (m.t > 0.3 * t_arrival && m.t < 0.9 * t_arrival) {
+      sum += m.punch_stress;
+      ++n;
+    }
+  ASSERT_GT(n, 10);
+  EXPECT_NEAR(sum / n, sigma, 0.02 * sigma);
+  // arrival: the bottom-wall stress first reaches the incident stress (half of the reflected 2 sigma)
+  double t_hit = -1;
+  for (auto& m : rows)
+    if (m.wall_bottom / 0.04e-3 >= sigma) {
+      t_hit = m.t;
+      break;
+    }
+  ASSERT_GT(t_hit, 0);
+  EXPECT_NEAR(t_hit, t_arrival, 0.05 * t_arrival);
+}
