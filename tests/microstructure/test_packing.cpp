@@ -183,3 +183,26 @@ TEST(Packing, UnreachablePorosityStatesTheBestReached) {
   EXPECT_NE(m.find("cannot be reached"), std::string::npos) << m;
   EXPECT_NE(m.find("densest overlap-free packing found has porosity"), std::string::npos) << m;
 }
+
+TEST(Packing, WallsKeepGrainsInsideAndTheMassBalanceExact) {
+  const Packing p = generate_packing(spec_from(replace(replace(kDeck, "porosity = 0.0932", "porosity = 0.25"),
+                                                       "seed = 3", "seed = 3\nboundary = \"walls\"")));
+  EXPECT_FALSE(p.periodic);
+  for (const auto& g : p.grains)
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_GE(g.centre[k], 0.5 * g.diameter);
+      EXPECT_LE(g.centre[k], p.box[k] - 0.5 * g.diameter);
+    }
+  // Coats cut by the walls are accounted for: the ratio is still exact.
+  EXPECT_NEAR(p.stats.tatb_mass_fraction, 0.95, 1e-9);
+  EXPECT_NEAR(p.stats.porosity, 0.25, 0.002);
+}
+
+TEST(Packing, ExampleDecksAreValid) {
+  for (const char* f : {"porosity_0.0932.toml", "porosity_0.0798.toml", "porosity_0.08.toml", "porosity_0.053.toml"}) {
+    Deck d = Deck::from_file(std::string(PBXMPM_EXAMPLES_DIR "/packing/") + f);
+    const PackingSpec s = read_packing_spec(d.root().table("packing"));
+    EXPECT_NO_THROW(d.check_unused()) << f;
+    EXPECT_NEAR(s.tmd(), 1938.126, 0.001) << f;
+  }
+}
