@@ -1,4 +1,5 @@
 // Generated packings: geometry, mass balance, porosity, colouring, determinism and bad decks.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -204,5 +205,24 @@ TEST(Packing, ExampleDecksAreValid) {
     const PackingSpec s = read_packing_spec(d.root().table("packing"));
     EXPECT_NO_THROW(d.check_unused()) << f;
     EXPECT_NEAR(s.tmd(), 1938.126, 0.001) << f;
+  }
+}
+
+TEST(Packing, PackedDiametersPassKsPerMode) {
+  // The grains of the generated specimen itself (not only the sampler) against each requested mode.
+  const Packing& p = paper_packing();
+  const PackingSpec s = spec_from(kDeck);
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> d;
+    for (const auto& g : p.grains)
+      if (g.mode == k) d.push_back(g.diameter);
+    std::sort(d.begin(), d.end());
+    double D = 0;
+    const double n = static_cast<double>(d.size());
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const double f = s.sizes.mode_cdf(k, d[i]);
+      D = std::max({D, (i + 1) / n - f, f - i / n});
+    }
+    EXPECT_LT(D, 1.628 / std::sqrt(n)) << "mode " << k << ", n = " << n;  // KS, 1 % level
   }
 }
