@@ -49,7 +49,7 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
           const long k = grid.at(f, i);
           const double m = grid.mass[k];
           if (m <= mass_eps) continue;
-          if (!behind && xn + grid.moff[k].dot(n) / m - face[b] > reach) continue;
+          if (!behind && (grid.origin + grid.moff[k] / m).dot(n) - face[b] > reach) continue;
           const Vec<D> vrel = grid.mom[k] / m - vb[b];
           Vec<D> dp;
           double fw = 0;

@@ -73,6 +73,15 @@ inline Mat3 skew_part(const Mat3& L) { return 0.5 * (L - L.transpose()); }
 // Hughes-Winget incremental rotation R = (I - W dt/2)^-1 (I + W dt/2): exactly orthogonal, so a
 // stress rotated by it keeps its invariants (objective Jaumann-type update).
 inline Mat3 hughes_winget(const Mat3& W, double dt) {
+  if (W(0, 2) == 0.0 && W(1, 2) == 0.0) {
+    // in-plane spin (plane strain): closed form, a rotation by 2 atan(a), a = W_xy dt / 2
+    const double a = 0.5 * dt * W(0, 1), d = 1.0 / (1.0 + a * a);
+    Mat3 R = Mat3::Identity();
+    R(0, 0) = R(1, 1) = (1.0 - a * a) * d;
+    R(0, 1) = 2.0 * a * d;
+    R(1, 0) = -2.0 * a * d;
+    return R;
+  }
   const Mat3 I = Mat3::Identity();
   return (I - 0.5 * dt * W).inverse() * (I + 0.5 * dt * W);
 }

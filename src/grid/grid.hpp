@@ -21,7 +21,7 @@ struct Grid {
   std::vector<double> mass;
   std::vector<Vec<D>> mom;        // momentum after P2G, then after the contact passes
   std::vector<Vec<D>> mom0;       // momentum as interpolated (FLIP increment base)
-  std::vector<Vec<D>> moff;       // sum S m (x_p - x_i): mass centre of the field near the node
+  std::vector<Vec<D>> moff;       // sum S m (x_p - origin): mass centre of the field near the node
   std::vector<Vec<D>> vgrad;      // sum V_p grad S: volume gradient of the field (contact normals)
   std::vector<Vec<D>> force;      // internal + external force
   std::vector<Vec<D>> vel;        // final nodal velocity of the step (v = p/m)

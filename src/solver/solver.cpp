@@ -139,14 +139,6 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   const Vec<D> grav = sc_.settings.gravity;
   const bool gravity = grav.squaredNorm() > 0;
   const bool track_offsets = !sc_.bodies.empty();
-  auto node_cells = [&](long i) {
-    Vec<D> c;
-    for (int d = 0; d < D; ++d) {
-      c[d] = static_cast<double>(i % g.n[d]);
-      i /= g.n[d];
-    }
-    return c;
-  };
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (long s = phase; s < bins_.strips; s += 2) {
@@ -164,12 +156,12 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
         Vec<D>* gg = g.vgrad.data() + off;
         const double vol = P.volume[p];
         const bool grads = track_gradients_;
-        const Vec<D> xs = (P.x[p] - g.origin) * inv_h;  // position in cells
+        const Vec<D> xs = P.x[p] - g.origin;
         for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
           if (mass_momentum) {
             gm[i] += S * m;
             gp[i] += S * mv;
-            if (track_offsets) go[i] += (S * m * g.h) * (xs - node_cells(i));
+            if (track_offsets) go[i] += (S * m) * xs;
             if (grads) gg[i] += vol * G;
           }
           if (forces) {
