@@ -183,6 +183,7 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
     throw InputError(fmt::format("{}:{}: {}", s.base_deck, e.source().begin.line, e.description()));
   }
   for (const auto& [key, text] : r.set) {
+    if (key == "specimen.seed" && !base.contains("specimen")) continue;  // no packed specimen: no seed
     // dotted key: walk/create tables, then parse the value text as TOML
     toml::table* t = &base;
     std::size_t start = 0, dot;
@@ -194,7 +195,6 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
       start = dot + 1;
     }
     const std::string leaf = key.substr(start);
-    if (key == "specimen.seed" && !base.contains("specimen")) continue;
     toml::table v;
     try {
       v = toml::parse("v = " + text);
