@@ -7,6 +7,9 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "io/deck.hpp"
+#include <filesystem>
+
+#include "io/checkpoint.hpp"
 #include "solver/runner.hpp"
 
 namespace pbx::app {
@@ -14,8 +17,8 @@ namespace pbx::app {
 namespace {
 
 struct RunArgs {
-  std::string deck, out = "out/run";
-  int threads = 0;
+  std::string deck, out = "out/run", restart;
+  int threads = 0, checkpoint_every = 0;
   bool quiet = false;
 };
 
@@ -31,21 +34,45 @@ Scene<2> load(const std::string& file, Deck& deck) {
 void register_run(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
   auto* run = app.add_subcommand("run", "Run the simulation a deck describes");
-  run->add_option("deck", args->deck, "TOML deck")->required()->check(CLI::ExistingFile);
+  run->add_option("deck", args->deck, "TOML deck (not needed with --restart)")->check(CLI::ExistingFile);
   run->add_option("--out,-o", args->out, "output directory (history.csv, run.json, snapshots/)");
+  run->add_option("--checkpoint-every", args->checkpoint_every,
+                  "write OUT/checkpoint.h5 every N history rows (it is overwritten each time)")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--restart", args->restart,
+                  "continue the run saved in this checkpoint (its deck; output in the checkpoint's folder "
+                  "unless --out is given)")
+      ->check(CLI::ExistingFile);
   run->add_option("--threads,-t", args->threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
   run->add_flag("--quiet,-q", args->quiet, "no progress display");
-  run->callback([args] {
+  run->callback([args, run] {
     Deck deck = Deck::from_string("", "");
-    Scene<2> scene = load(args->deck, deck);
+    CheckpointData ck;
+    std::string deck_name = args->deck;
+    if (!args->restart.empty()) {
+      ck = read_checkpoint(args->restart);
+      deck = Deck::from_string(ck.deck_text, ck.deck_name);
+      deck_name = ck.deck_name;
+      if (run->count("--out") == 0) args->out = std::filesystem::path(args->restart).parent_path().string();
+    } else if (args->deck.empty()) {
+      throw InputError("pbxmpm run: give a deck, or --restart CHECKPOINT");
+    } else {
+      deck = Deck::from_file(args->deck);
+    }
+    Scene<2> scene = build_scene<2>(deck);
+    deck.check_unused();
     RunOptions opt;
     opt.out_dir = args->out;
     opt.threads = args->threads;
     opt.progress = !args->quiet;
     opt.deck_json = deck.to_json();
-    Runner<2> runner(scene, opt);
-    std::fprintf(stderr, "pbxmpm: %s: %zu particles, %ld x %ld nodes, %d fields, end time %.4g s -> %s\n",
-                 args->deck.c_str(), scene.particles.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.fields,
+    opt.deck_text = deck.text();
+    opt.deck_name = deck_name;
+    opt.checkpoint_every = args->checkpoint_every;
+    Runner<2> runner(scene, opt, !args->restart.empty());
+    if (!args->restart.empty()) runner.resume(ck);
+    std::fprintf(stderr, "pbxmpm: %s%s: %zu particles, %ld x %ld nodes, %d fields, end time %.4g s -> %s\n",
+                 args->restart.empty() ? "" : "restart of ", deck_name.c_str(), scene.particles.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.fields,
                  scene.control.end_time, args->out.c_str());
     runner.run();
   });

@@ -31,9 +31,11 @@ void write_dataset(hid_t file, const char* name, hid_t type, const void* data, s
 }
 }  // namespace
 
+std::string SnapshotWriter::snapshot_name(std::size_t i) { return fmt::format("snap_{:04d}.h5", i); }
+
 void SnapshotWriter::write(const SnapshotData& s) {
   std::filesystem::create_directories(dir_);
-  const std::string name = fmt::format("snap_{:04d}.h5", entries_.size());
+  const std::string name = snapshot_name(entries_.size());
   const std::string path = (std::filesystem::path(dir_) / name).string();
   hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f < 0) throw InputError(fmt::format("cannot write snapshot '{}'", path));

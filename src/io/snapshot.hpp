@@ -27,6 +27,17 @@ class SnapshotWriter {
   explicit SnapshotWriter(std::string dir) : dir_(std::move(dir)) {}
   void write(const SnapshotData& s);
   const std::string& dir() const { return dir_; }
+  // Snapshots already written (checkpoint restart): times and particle counts, in order.
+  std::vector<std::pair<double, std::size_t>> written() const {
+    std::vector<std::pair<double, std::size_t>> out;
+    for (auto& e : entries_) out.emplace_back(e.time, e.count);
+    return out;
+  }
+  void restore(const std::vector<std::pair<double, std::size_t>>& w) {
+    entries_.clear();
+    for (std::size_t i = 0; i < w.size(); ++i) entries_.push_back({snapshot_name(i), w[i].first, w[i].second});
+  }
+  static std::string snapshot_name(std::size_t i);
 
  private:
   void write_xdmf() const;

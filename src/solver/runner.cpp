@@ -33,7 +33,7 @@ std::string hms(double s) {
 }  // namespace
 
 template <int D>
-Runner<D>::Runner(Scene<D>& scene, RunOptions opt) : sc_(scene), opt_(std::move(opt)), solver_(scene) {
+Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), opt_(std::move(opt)), solver_(scene) {
   if (opt_.threads > 0) omp_set_num_threads(opt_.threads);
   tty_ = isatty(STDERR_FILENO);
   const char* axes = "xyz";
@@ -47,7 +47,7 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt) : sc_(scene), opt_(std::move(
     for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("{}_f{}_N_per_m", b.name, axes[d]));
   if (!opt_.out_dir.empty()) {
     std::filesystem::create_directories(opt_.out_dir);
-    history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
+    if (!restart) history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
     snapshots_ = SnapshotWriter((std::filesystem::path(opt_.out_dir) / "snapshots").string());
   }
 }
@@ -254,6 +254,101 @@ void Runner<D>::report_progress(const Measurement& m, bool final) {
 }
 
 template <int D>
+void Runner<D>::write_checkpoint(const std::string& file) const {
+  const auto& P = sc_.particles;
+  CheckpointData c;
+  c.deck_text = opt_.deck_text;
+  c.deck_name = opt_.deck_name;
+  const auto st = solver_.state();
+  c.scalars = {{"t", st.t}, {"dt", st.dt}, {"cmax", st.cmax}, {"vmax", st.vmax}, {"internal", st.internal},
+               {"dissipated", st.dissipated}, {"steps", static_cast<double>(st.steps)},
+               {"t_last_row", t_last_row_}, {"punch_work", punch_work_}, {"next_row", static_cast<double>(next_row_)},
+               {"next_snapshot", static_cast<double>(next_snapshot_)}, {"rows_written", static_cast<double>(rows_written_)},
+               {"particles", static_cast<double>(P.size())}};
+  auto flat = [&](const std::string& name, auto const& vec, int comps, auto get) {
+    std::vector<double> out;
+    out.reserve(vec.size() * static_cast<std::size_t>(comps));
+    for (const auto& e : vec) get(e, out);
+    c.arrays[name] = std::move(out);
+  };
+  auto vec_get = [](const Vec<D>& e, std::vector<double>& o) { for (int d = 0; d < D; ++d) o.push_back(e[d]); };
+  auto mat_get = [](const Mat<D>& e, std::vector<double>& o) { for (int k = 0; k < D * D; ++k) o.push_back(e.data()[k]); };
+  flat("x", P.x, D, vec_get);
+  flat("v", P.v, D, vec_get);
+  flat("F", P.F, D * D, mat_get);
+  flat("L", P.L, D * D, mat_get);
+  flat("stress", P.stress, 6, [](const Sym3& e, std::vector<double>& o) { o.insert(o.end(), {e.xx, e.yy, e.zz, e.xy, e.yz, e.zx}); });
+  c.arrays["volume"] = P.volume;
+  for (std::size_t m = 0; m < sc_.material_state.size(); ++m) c.arrays[fmt::format("history_{}", m)] = sc_.material_state[m].history;
+  std::vector<double> snaps;
+  for (auto& [t, n] : snapshots_.written()) snaps.insert(snaps.end(), {t, static_cast<double>(n)});
+  c.arrays["snapshots"] = snaps;
+  pbx::write_checkpoint(file, c);
+}
+
+template <int D>
+void Runner<D>::resume(const CheckpointData& c) {
+  auto& P = sc_.particles;
+  auto scalar = [&](const char* k) {
+    auto it = c.scalars.find(k);
+    if (it == c.scalars.end()) throw InputError(fmt::format("checkpoint lacks '{}'", k));
+    return it->second;
+  };
+  auto array = [&](const std::string& k, std::size_t n) -> const std::vector<double>& {
+    auto it = c.arrays.find(k);
+    if (it == c.arrays.end() || it->second.size() != n)
+      throw InputError(fmt::format("checkpoint array '{}' is missing or has the wrong size for this deck", k));
+    return it->second;
+  };
+  const std::size_t n = P.size();
+  if (static_cast<std::size_t>(scalar("particles")) != n)
+    throw InputError("checkpoint particle count differs from the deck's: the deck or packing changed");
+  const auto& x = array("x", n * D);
+  const auto& v = array("v", n * D);
+  const auto& F = array("F", n * D * D);
+  const auto& L = array("L", n * D * D);
+  const auto& s = array("stress", n * 6);
+  P.volume = array("volume", n);
+  for (std::size_t p = 0; p < n; ++p) {
+    for (int d = 0; d < D; ++d) {
+      P.x[p][d] = x[p * D + d];
+      P.v[p][d] = v[p * D + d];
+    }
+    for (int k = 0; k < D * D; ++k) {
+      P.F[p].data()[k] = F[p * D * D + k];
+      P.L[p].data()[k] = L[p * D * D + k];
+    }
+    P.stress[p] = {s[6 * p], s[6 * p + 1], s[6 * p + 2], s[6 * p + 3], s[6 * p + 4], s[6 * p + 5]};
+  }
+  for (std::size_t m = 0; m < sc_.material_state.size(); ++m)
+    sc_.material_state[m].history = array(fmt::format("history_{}", m), sc_.material_state[m].history.size());
+  typename Solver<D>::State st{scalar("t"), scalar("dt"), scalar("cmax"), scalar("vmax"), scalar("internal"),
+                               scalar("dissipated"), static_cast<long>(scalar("steps"))};
+  solver_.restore(st);
+  t_last_row_ = scalar("t_last_row");
+  punch_work_ = scalar("punch_work");
+  next_row_ = static_cast<int>(scalar("next_row"));
+  next_snapshot_ = static_cast<int>(scalar("next_snapshot"));
+  rows_written_ = static_cast<int>(scalar("rows_written"));
+  const auto& snaps = c.arrays.count("snapshots") ? c.arrays.at("snapshots") : std::vector<double>{};
+  std::vector<std::pair<double, std::size_t>> w;
+  for (std::size_t i = 0; i + 1 < snaps.size(); i += 2) w.emplace_back(snaps[i], static_cast<std::size_t>(snaps[i + 1]));
+  snapshots_.restore(w);
+  // keep the header and the rows the checkpoint had written, then append
+  if (!opt_.out_dir.empty()) {
+    const auto file = (std::filesystem::path(opt_.out_dir) / "history.csv").string();
+    std::ifstream in(file);
+    if (!in) throw InputError(fmt::format("restart: '{}' is missing", file));
+    std::string line, kept;
+    for (int i = 0; i <= rows_written_ && std::getline(in, line); ++i) kept += line + "\n";
+    in.close();
+    std::ofstream(file) << kept;
+    history_ = CsvWriter(file, columns_, true);
+  }
+  resumed_ = true;
+}
+
+template <int D>
 void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
   wall_start_ = now_s();
   const double t_end = sc_.control.end_time;
@@ -265,27 +360,34 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
       v[0] = static_cast<double>(solver_.step_count());
       history_.row(v);
     }
+    ++rows_written_;
     if (on_row) on_row(m);
     report_progress(m, false);
     return m;
   };
   write_run_json("running", "");
-  emit_row();
-  next_row_ = 1;
-  if (sc_.control.snapshots > 0) write_snapshot();
-  next_snapshot_ = 1;
+  if (!resumed_) {
+    emit_row();
+    next_row_ = 1;
+    if (sc_.control.snapshots > 0) write_snapshot();
+    next_snapshot_ = 1;
+  }
   try {
     while (solver_.time() < t_end * (1 - 1e-12)) {
       solver_.step();
       const double t = solver_.time();
+      bool row = false;
       if (t >= t_end * next_row_ / (rows - 1) || t >= t_end * (1 - 1e-12)) {
         emit_row();
+        row = true;
         while (t_end * next_row_ / (rows - 1) <= t) ++next_row_;
       }
       if (sc_.control.snapshots > 0 && t >= t_end * next_snapshot_ / sc_.control.snapshots) {
         write_snapshot();
         while (t_end * next_snapshot_ / sc_.control.snapshots <= t) ++next_snapshot_;
       }
+      if (row && opt_.checkpoint_every > 0 && !opt_.out_dir.empty() && rows_written_ % opt_.checkpoint_every == 0)
+        write_checkpoint((std::filesystem::path(opt_.out_dir) / "checkpoint.h5").string());
     }
   } catch (const InstabilityError& e) {
     if (opt_.progress && tty_) std::fprintf(stderr, "\n");

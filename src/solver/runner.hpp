@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
 #include "io/snapshot.hpp"
 #include "solver/solver.hpp"
@@ -31,12 +32,15 @@ struct RunOptions {
   bool progress = true;
   std::string deck_json;        // the validated deck (for run.json)
   std::string study_json;       // {"group": ..., ...} when the run belongs to a study
+  std::string deck_text, deck_name;  // stored in checkpoints to rebuild the scene on restart
+  int checkpoint_every = 0;     // write DIR/checkpoint.h5 every this many history rows (0 = never)
 };
 
 template <int D>
 class Runner {
  public:
-  Runner(Scene<D>& scene, RunOptions opt);
+  // restart = true keeps an existing history.csv (resume() truncates it to the checkpoint's rows).
+  Runner(Scene<D>& scene, RunOptions opt, bool restart = false);
   // Runs to the end; calls on_row after each history row (tests observe the run this way).
   void run(const std::function<void(const Measurement&)>& on_row = {});
   Solver<D>& solver() { return solver_; }
@@ -44,6 +48,10 @@ class Runner {
   static std::vector<double> row_values(const Measurement& m, int nbodies);
   Measurement measure();
   void write_snapshot();
+  void write_checkpoint(const std::string& file) const;
+  // Restores the state saved in a checkpoint; run() then continues from it, appending to
+  // history.csv (truncated to the rows the checkpoint had written).
+  void resume(const CheckpointData& c);
 
  private:
   void write_run_json(const std::string& status, const std::string& message) const;
@@ -55,7 +63,8 @@ class Runner {
   SnapshotWriter snapshots_;
   std::vector<std::string> columns_;
   double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1;
-  int next_row_ = 0, next_snapshot_ = 0;
+  int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
+  bool resumed_ = false;
   bool tty_ = false;
 };
 

@@ -44,11 +44,7 @@ template <int D>
 Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   const auto& P = sc_.particles;
   bins_.setup(sc_.grid.n[0] - 1);
-  const double inv_h = 1.0 / sc_.grid.h;
-  for (std::size_t p = 0; p < P.size(); ++p) {
-    const long cx = static_cast<long>(std::floor((P.x[p][0] - sc_.grid.origin[0]) * inv_h));
-    bins_.members[static_cast<std::size_t>(bins_.strip_of_cell(cx))].push_back(static_cast<std::uint32_t>(p));
-  }
+  rebuild_bins();
   double msum = 0;
   for (double m : P.mass) msum += m;
   mass_eps_ = 1e-20 * sc_.settings.mass_scaling * msum / static_cast<double>(std::max<std::size_t>(1, P.size()));
@@ -60,12 +56,27 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
 }
 
 template <int D>
-void Solver<D>::restore(double t, long steps, double internal, double dissipated) {
-  t_ = t;
-  steps_ = steps;
-  internal_ = internal;
-  dissipated_ = dissipated;
+void Solver<D>::restore(const State& s) {
+  t_ = s.t;
+  dt_ = s.dt;
+  cmax_ = s.cmax;
+  vmax_ = s.vmax;
+  internal_ = s.internal;
+  dissipated_ = s.dissipated;
+  steps_ = s.steps;
   for (auto& b : sc_.bodies) b.move_to(t_);
+  rebuild_bins();
+}
+
+template <int D>
+void Solver<D>::rebuild_bins() {
+  const auto& P = sc_.particles;
+  const double inv_h = 1.0 / sc_.grid.h;
+  for (auto& m : bins_.members) m.clear();
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const long cx = static_cast<long>(std::floor((P.x[p][0] - sc_.grid.origin[0]) * inv_h));
+    bins_.members[static_cast<std::size_t>(bins_.strip_of_cell(cx))].push_back(static_cast<std::uint32_t>(p));
+  }
 }
 
 template <int D>
@@ -485,13 +496,7 @@ void Solver<D>::advance_bodies() {
         break;
       }
     }
-  if (rebin) {
-    for (auto& m : bins_.members) m.clear();
-    for (long p = 0; p < np; ++p) {
-      const long cx = static_cast<long>(std::floor((P.x[p][0] - g.origin[0]) * inv_h));
-      bins_.members[static_cast<std::size_t>(bins_.strip_of_cell(cx))].push_back(static_cast<std::uint32_t>(p));
-    }
-  }
+  if (rebin) rebuild_bins();
 }
 
 template <int D>

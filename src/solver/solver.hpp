@@ -29,8 +29,13 @@ class Solver {
   double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
   double max_wave_speed() const { return cmax_; }            // unscaled, m/s
 
-  // Restores the clock and energy accumulators (checkpoint restart).
-  void restore(double t, long steps, double internal, double dissipated);
+  // Clock and accumulators, saved in checkpoints and restored on restart.
+  struct State {
+    double t, dt, cmax, vmax, internal, dissipated;
+    long steps;
+  };
+  State state() const { return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_}; }
+  void restore(const State& s);  // also moves the rigid bodies and rebuilds the strip bins
 
   // Stages (public so tests can drive them one by one).
   double stable_time_step() const;
@@ -53,6 +58,7 @@ class Solver {
   template <Kernel K> void velocity_gradient_impl();
   template <Kernel K> void rigid_p2g_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
+  void rebuild_bins();
 
   Scene<D>& sc_;
   StripBins bins_;

@@ -1,0 +1,113 @@
+#include "io/checkpoint.hpp"
+
+#include <cstring>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include "core/error.hpp"
+
+namespace pbx {
+
+namespace {
+void write_string(hid_t loc, const char* name, const std::string& s) {
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, s.size() + 1);
+  hid_t a = H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, s.c_str());
+  H5Aclose(a);
+  H5Tclose(type);
+  H5Sclose(space);
+}
+std::string read_string(hid_t loc, const char* name) {
+  hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  hid_t type = H5Aget_type(a);
+  std::string s(H5Tget_size(type), '\0');
+  H5Aread(a, type, s.data());
+  H5Tclose(type);
+  H5Aclose(a);
+  s.resize(std::strlen(s.c_str()));
+  return s;
+}
+}  // namespace
+
+void write_checkpoint(const std::string& file, const CheckpointData& c) {
+  // write to a temporary name, then rename: a run killed mid-write leaves the previous checkpoint
+  const std::string tmp = file + ".tmp";
+  hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw InputError(fmt::format("cannot write checkpoint '{}'", file));
+  write_string(f, "deck_text", c.deck_text);
+  write_string(f, "deck_name", c.deck_name);
+  write_string(f, "format", "pbxmpm-checkpoint-1");
+  hid_t gs = H5Gcreate2(f, "scalars", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  for (const auto& [k, v] : c.scalars) {
+    hid_t space = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(gs, k.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(a);
+    H5Sclose(space);
+  }
+  H5Gclose(gs);
+  for (const auto& [k, v] : c.arrays) {
+    hsize_t n = v.size();
+    hid_t space = H5Screate_simple(1, &n, nullptr);
+    hid_t ds = H5Dcreate2(f, k.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (n > 0) H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(ds);
+    H5Sclose(space);
+  }
+  H5Fclose(f);
+  std::filesystem::rename(tmp, file);
+}
+
+CheckpointData read_checkpoint(const std::string& file) {
+  if (!std::filesystem::exists(file)) throw InputError(fmt::format("checkpoint '{}' does not exist", file));
+  H5E_auto2_t old_func;
+  void* old_data;
+  H5Eget_auto2(H5E_DEFAULT, &old_func, &old_data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  H5Eset_auto2(H5E_DEFAULT, old_func, old_data);
+  if (f < 0 || H5Aexists(f, "format") <= 0 || read_string(f, "format") != "pbxmpm-checkpoint-1") {
+    if (f >= 0) H5Fclose(f);
+    throw InputError(fmt::format("'{}' is not a pbxmpm checkpoint", file));
+  }
+  CheckpointData c;
+  c.deck_text = read_string(f, "deck_text");
+  c.deck_name = read_string(f, "deck_name");
+  hid_t gs = H5Gopen2(f, "scalars", H5P_DEFAULT);
+  H5O_info_t info;
+  H5Oget_info2(gs, &info, H5O_INFO_NUM_ATTRS);
+  for (hsize_t i = 0; i < info.num_attrs; ++i) {
+    hid_t a = H5Aopen_by_idx(gs, ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT);
+    char name[256];
+    H5Aget_name(a, sizeof name, name);
+    double v = 0;
+    H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+    c.scalars[name] = v;
+    H5Aclose(a);
+  }
+  H5Gclose(gs);
+  H5G_info_t ginfo;
+  H5Gget_info(f, &ginfo);
+  for (hsize_t i = 0; i < ginfo.nlinks; ++i) {
+    char name[256];
+    H5Lget_name_by_idx(f, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
+    if (std::string(name) == "scalars") continue;
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    hid_t space = H5Dget_space(ds);
+    hsize_t n = 0;
+    H5Sget_simple_extent_dims(space, &n, nullptr);
+    std::vector<double> v(n);
+    if (n > 0) H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    c.arrays[name] = std::move(v);
+    H5Sclose(space);
+    H5Dclose(ds);
+  }
+  H5Fclose(f);
+  return c;
+}
+
+}  // namespace pbx

@@ -1,0 +1,20 @@
+#pragma once
+// Checkpoints: the complete state of a run in one HDF5 file (particles, material histories,
+// clock, energy accumulators, the runner's reporting state, and the deck text to rebuild the
+// scene). A run restarted from a checkpoint continues bit for bit as if it had not stopped.
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pbx {
+
+struct CheckpointData {
+  std::string deck_text, deck_name;
+  std::map<std::string, double> scalars;               // clock, energies, runner state
+  std::map<std::string, std::vector<double>> arrays;   // flattened particle/material arrays
+};
+
+void write_checkpoint(const std::string& file, const CheckpointData& c);
+CheckpointData read_checkpoint(const std::string& file);  // throws InputError
+
+}  // namespace pbx
