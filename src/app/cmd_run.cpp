@@ -22,6 +22,7 @@ struct RunArgs {
   bool quiet = false;
 };
 
+
 Scene<2> load(const std::string& file, Deck& deck) {
   deck = Deck::from_file(file);
   Scene<2> scene = build_scene<2>(deck);

@@ -1,0 +1,61 @@
+// A run that goes unstable stops with a message naming the step, the particle and its material,
+// and keeps what it wrote: history.csv rows, a last snapshot, and run.json marked "failed".
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "scene_fixture.hpp"
+
+namespace fs = std::filesystem;
+using namespace pbx;
+
+TEST(Instability, NonFiniteStateStopsNamingParticleAndKeepsOutput) {
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_unstable_" + std::to_string(::getpid()));
+  Scene<2> sc = test::scene_from(R"(
+[run]
+end_time = "50 us"
+history_points = 100
+snapshots = 2
+[grid]
+cell_size = "10 um"
+min = ["-0.1 mm", "-0.1 mm"]
+max = ["0.3 mm", "0.3 mm"]
+[materials.disk]
+model = "linear_elastic"
+density = "2.0 g/cm3"
+youngs_modulus = "1 MPa"
+poisson_ratio = 0.3
+[[geometry]]
+shape = "disk"
+center = ["0.1 mm", "0.1 mm"]
+radius = "0.05 mm"
+material = "disk"
+)");
+  // a corrupted state (as a bad material law or an overflow would leave): one velocity is NaN
+  sc.particles.v[17] = Vec<2>(std::nan(""), 0.0);
+  RunOptions o = test::quiet();
+  o.out_dir = dir.string();
+  Runner<2> r(sc, o);
+  std::string msg;
+  try {
+    r.run();
+  } catch (const InstabilityError& e) {
+    msg = e.what();
+  }
+  ASSERT_FALSE(msg.empty()) << "the run did not stop";
+  EXPECT_NE(msg.find("particle"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'disk'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("step"), std::string::npos) << msg;
+  std::ifstream f(dir / "run.json");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  EXPECT_NE(ss.str().find("\"status\": \"failed\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "history.csv"));
+  EXPECT_TRUE(fs::exists(dir / "snapshots" / "snapshots.xmf"));
+  fs::remove_all(dir);
+}
