@@ -1,12 +1,26 @@
 #pragma once
-// Contact between deformable velocity fields at shared nodes. The law here is the `weld`
-// (single-velocity) limit: every field at a node moves with the node's centre-of-mass velocity,
-// which is what single-field MPM does. Frictional laws between fields plug in at this seam.
+// Contact between deformable velocity fields at shared nodes (the paper's Eq. 6-7 in Nairn's
+// momentum form of Bardenhagen et al. 2000/2001). docs/theory/contact.md states the law exactly as
+// implemented; in short, at a node where field a meets the rest r of the fields:
+//   stick impulse      dp = (m_a p_r - m_r p_a) / (m_a + m_r)
+//   contact            when d_n = dp . n_a < 0 (approaching), and, with the displacement check on,
+//                      when the mass centres of a and r are closer than the cutoff along n_a
+//   impulse on a       d_n n_a + dp_t min(1, (S_a A_c dt - mu d_n) / |dp_t|)   (weld: dp)
+// and the node's impulses are made to sum to zero exactly (mass-weighted correction, which only
+// acts at nodes with three or more fields or with unpaired normals).
+#include "contact/contact_matrix.hpp"
 #include "grid/grid.hpp"
 
 namespace pbx {
 
+// Single-velocity limit: every field at a node moves with the node's centre-of-mass velocity.
 template <int D>
 void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
+
+// Applies the contact matrix to the momenta of fields [0, deformable) at every node with at least
+// two fields; dt is the step (adhesion cap). Returns the frictional work of the pass, J
+// (per metre of depth in 2-D), summed in a thread-count independent order.
+template <int D>
+double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps);
 
 }  // namespace pbx

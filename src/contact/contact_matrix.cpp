@@ -1,0 +1,109 @@
+#include "contact/contact_matrix.hpp"
+
+#include <algorithm>
+#include <map>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+
+namespace pbx {
+
+bool ContactMatrix::all_weld() const {
+  return std::all_of(pair.begin(), pair.end(), [](const PairLaw& p) { return p.law == ContactLaw::weld; });
+}
+
+const char* to_string(ContactLaw law) {
+  switch (law) {
+    case ContactLaw::weld: return "weld";
+    case ContactLaw::frictionless: return "frictionless";
+    case ContactLaw::coulomb: return "coulomb";
+    case ContactLaw::adhesion: return "adhesion";
+  }
+  return "?";
+}
+
+namespace {
+
+// Reads law / friction / adhesion from a table, under the key names given (the [contact] table
+// itself uses "default" for the law, a [[contact.pair]] uses "law").
+PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<std::string> def) {
+  PairLaw p;
+  const std::string name = t.string(law_key, std::move(def));
+  if (name == "weld") p.law = ContactLaw::weld;
+  else if (name == "frictionless") p.law = ContactLaw::frictionless;
+  else if (name == "coulomb") p.law = ContactLaw::coulomb;
+  else if (name == "adhesion") p.law = ContactLaw::adhesion;
+  else t.fail(law_key, fmt::format("unknown contact law '{}' (weld, frictionless, coulomb, adhesion)", name));
+
+  if (p.law == ContactLaw::coulomb || p.law == ContactLaw::adhesion) {
+    p.friction = t.number("friction");
+    if (!(p.friction >= 0.0)) t.fail("friction", fmt::format("friction coefficient must be >= 0, got {}", p.friction));
+  } else if (t.has("friction")) {
+    t.fail("friction", fmt::format("the '{}' law takes no friction coefficient", name));
+  }
+  if (p.law == ContactLaw::adhesion) {
+    p.adhesion = t.non_negative("adhesion", dim::pressure);
+  } else if (t.has("adhesion")) {
+    t.fail("adhesion", fmt::format("the '{}' law takes no adhesion (use law = \"adhesion\")", name));
+  }
+  return p;
+}
+
+}  // namespace
+
+ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const std::vector<int>& field_material,
+                                  const std::vector<std::string>& material_names) {
+  ContactMatrix cm;
+  cm.fields = static_cast<int>(field_material.size());
+  const std::size_t nf = field_material.size();
+  cm.pair.assign(nf * nf, PairLaw{});
+  if (!table) return cm;
+  const DeckTable& t = *table;
+
+  const PairLaw def = read_law(t, "default", std::string("weld"));
+  const std::string normal = t.string("normals", std::string("dominant"));
+  if (normal == "dominant") cm.normal = ContactNormal::dominant;
+  else if (normal == "average") cm.normal = ContactNormal::average;
+  else if (normal == "own") cm.normal = ContactNormal::own;
+  else t.fail("normals", fmt::format("unknown normal option '{}' (dominant, average, own)", normal));
+  cm.position_cutoff = t.number("position_check", 0.0);
+  if (!(cm.position_cutoff >= 0.0)) t.fail("position_check", "must be >= 0 cells (0 switches the check off)");
+
+  std::map<std::string, int> mat_index;
+  for (std::size_t m = 0; m < material_names.size(); ++m) mat_index[material_names[m]] = static_cast<int>(m);
+
+  std::map<std::pair<int, int>, PairLaw> overrides;
+  for (const DeckTable& p : t.tables("pair")) {
+    const std::vector<std::string> names = p.strings("materials");
+    if (names.size() != 2) p.fail("materials", fmt::format("needs exactly two material names, got {}", names.size()));
+    int idx[2];
+    for (int k = 0; k < 2; ++k) {
+      auto it = mat_index.find(names[static_cast<std::size_t>(k)]);
+      if (it == mat_index.end())
+        p.fail("materials", fmt::format("no material named '{}' in [materials]", names[static_cast<std::size_t>(k)]));
+      idx[k] = it->second;
+    }
+    const auto key = std::minmax(idx[0], idx[1]);
+    const PairLaw law = read_law(p, "law", std::nullopt);
+    if (!overrides.emplace(key, law).second)
+      p.fail("materials", fmt::format("the pair ('{}', '{}') is listed twice", names[0], names[1]));
+  }
+
+  for (std::size_t a = 0; a < nf; ++a)
+    for (std::size_t b = 0; b < nf; ++b) {
+      if (a == b) continue;
+      PairLaw law = def;
+      const int ma = field_material[a], mb = field_material[b];
+      if (ma >= 0 && mb >= 0) {
+        auto it = overrides.find(std::minmax(ma, mb));
+        if (it != overrides.end()) law = it->second;
+      }
+      cm.pair[a * nf + b] = law;
+    }
+  return cm;
+}
+
+}  // namespace pbx

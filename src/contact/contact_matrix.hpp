@@ -1,0 +1,48 @@
+#pragma once
+// Which contact law acts between each pair of deformable velocity fields. The deck states laws per
+// pair of *materials* ([contact] table); fields inherit the law of their materials, so two TATB
+// grains on different fields (colours) use the ("tatb", "tatb") entry.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/deck.hpp"
+
+namespace pbx {
+
+enum class ContactLaw { weld, frictionless, coulomb, adhesion };
+
+// Outward normal of field a at a node (see docs/theory/contact.md):
+//   dominant: from the volume gradient of whichever side (a or the rest) has the larger |grad V|,
+//             the other side antiparallel (default);
+//   average:  n_a proportional to grad V_rest - grad V_a;
+//   own:      n_a = -grad V_a / |grad V_a| (no pairing of normals).
+enum class ContactNormal { dominant, average, own };
+
+struct PairLaw {
+  ContactLaw law = ContactLaw::weld;
+  double friction = 0;  // Coulomb coefficient mu
+  double adhesion = 0;  // shear adhesion S_a, Pa
+};
+
+struct ContactMatrix {
+  int fields = 0;                  // deformable fields covered
+  std::vector<PairLaw> pair;       // fields x fields, symmetric
+  ContactNormal normal = ContactNormal::dominant;
+  double position_cutoff = 0;      // displacement check, cells; 0 = off
+
+  const PairLaw& operator()(int a, int b) const {
+    return pair[static_cast<std::size_t>(a) * static_cast<std::size_t>(fields) + static_cast<std::size_t>(b)];
+  }
+  // True when every pair welds: the solver then takes the single-velocity fast path.
+  bool all_weld() const;
+};
+
+// Reads the optional [contact] table. field_material[f] is the material index of field f's
+// particles (-1 when a field mixes materials: it then uses the default law).
+ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const std::vector<int>& field_material,
+                                  const std::vector<std::string>& material_names);
+
+const char* to_string(ContactLaw law);
+
+}  // namespace pbx

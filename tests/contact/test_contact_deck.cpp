@@ -1,0 +1,117 @@
+// [contact] table: laws per material pair, same-material pairs across fields, and bad decks.
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "../engine/scene_fixture.hpp"
+
+using namespace pbx;
+using ::testing::HasSubstr;
+
+namespace {
+
+// Binder field, two grain fields (colours) of one material.
+std::string deck(const std::string& contact) {
+  return R"(
+[run]
+end_time = "1 us"
+[grid]
+cell_size = "10 um"
+min = ["0 mm", "0 mm"]
+max = ["0.4 mm", "0.2 mm"]
+[materials.tatb]
+model = "linear_elastic"
+density = "1.9 g/cm3"
+youngs_modulus = "20 GPa"
+poisson_ratio = 0.2
+[materials.f2314]
+model = "linear_elastic"
+density = "2.0 g/cm3"
+youngs_modulus = "1 GPa"
+poisson_ratio = 0.4
+[[geometry]]
+shape = "disk"
+center = ["0.08 mm", "0.1 mm"]
+radius = "0.04 mm"
+material = "tatb"
+field = "tatb_0"
+[[geometry]]
+shape = "disk"
+center = ["0.18 mm", "0.1 mm"]
+radius = "0.04 mm"
+material = "tatb"
+field = "tatb_1"
+[[geometry]]
+shape = "disk"
+center = ["0.3 mm", "0.1 mm"]
+radius = "0.04 mm"
+material = "f2314"
+)" + contact;
+}
+
+std::string error_of(const std::string& contact) {
+  try {
+    test::scene_from(deck(contact));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST(ContactDeck, DefaultIsWeld) {
+  Scene<2> sc = test::scene_from(deck(""));
+  EXPECT_EQ(sc.contact.fields, 3);
+  EXPECT_TRUE(sc.contact.all_weld());
+}
+
+TEST(ContactDeck, PairsByMaterialIncludingSameMaterialAcrossFields) {
+  Scene<2> sc = test::scene_from(deck(R"(
+[contact]
+default = "frictionless"
+normals = "average"
+[[contact.pair]]
+materials = ["f2314", "tatb"]
+law = "coulomb"
+friction = 0.3
+[[contact.pair]]
+materials = ["tatb", "tatb"]
+law = "adhesion"
+friction = 0.5
+adhesion = "2 MPa"
+)"));
+  ASSERT_EQ(sc.contact.fields, 3);
+  EXPECT_EQ(sc.contact.normal, ContactNormal::average);
+  int f_t0 = -1, f_t1 = -1, f_b = -1;
+  for (std::size_t f = 0; f < sc.field_names.size(); ++f) {
+    if (sc.field_names[f] == "tatb_0") f_t0 = static_cast<int>(f);
+    if (sc.field_names[f] == "tatb_1") f_t1 = static_cast<int>(f);
+    if (sc.field_names[f] == "f2314") f_b = static_cast<int>(f);
+  }
+  ASSERT_GE(f_t0 + f_t1 + f_b, 3);
+  EXPECT_EQ(sc.contact(f_t0, f_b).law, ContactLaw::coulomb);
+  EXPECT_EQ(sc.contact(f_b, f_t1).law, ContactLaw::coulomb);
+  EXPECT_DOUBLE_EQ(sc.contact(f_b, f_t1).friction, 0.3);
+  EXPECT_EQ(sc.contact(f_t0, f_t1).law, ContactLaw::adhesion);
+  EXPECT_DOUBLE_EQ(sc.contact(f_t1, f_t0).adhesion, 2e6);
+  EXPECT_DOUBLE_EQ(sc.contact(f_t1, f_t0).friction, 0.5);
+}
+
+TEST(ContactDeck, BadDecksNameTheKey) {
+  EXPECT_THAT(error_of("[contact]\n[[contact.pair]]\nmaterials = [\"tatb\", \"steel\"]\nlaw = \"frictionless\"\n"),
+              AllOf(HasSubstr("contact.pair"), HasSubstr("materials"), HasSubstr("steel")));
+  EXPECT_THAT(error_of("[contact]\ndefault = \"coulomb\"\nfriction = -0.1\n"),
+              AllOf(HasSubstr("contact.friction"), HasSubstr(">= 0")));
+  EXPECT_THAT(error_of("[contact]\n[[contact.pair]]\nmaterials = [\"tatb\", \"f2314\"]\nlaw = \"frictionless\"\n"
+                       "[[contact.pair]]\nmaterials = [\"f2314\", \"tatb\"]\nlaw = \"coulomb\"\nfriction = 0.3\n"),
+              AllOf(HasSubstr("materials"), HasSubstr("listed twice")));
+  EXPECT_THAT(error_of("[contact]\ndefault = \"glue\"\n"), AllOf(HasSubstr("contact.default"), HasSubstr("glue")));
+  EXPECT_THAT(error_of("[contact]\ndefault = \"coulomb\"\n"), HasSubstr("friction"));
+  EXPECT_THAT(error_of("[contact]\ndefault = \"frictionless\"\nfriction = 0.2\n"), HasSubstr("takes no friction"));
+  EXPECT_THAT(error_of("[contact]\nnormals = \"up\"\n"), HasSubstr("contact.normals"));
+  EXPECT_THAT(error_of("[contact]\nposition_check = -1\n"), HasSubstr("contact.position_check"));
+  EXPECT_THAT(error_of("[contact]\nfrobnicate = 1\n"), HasSubstr("frobnicate"));
+}

@@ -1,0 +1,144 @@
+// The field contact law at single nodes against hand-computed impulses (docs/theory/contact.md):
+// two bodies a (mass 2) and b (mass 3) meet at one node with outward normal of a along +x.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "contact/field_contact.hpp"
+
+using namespace pbx;
+
+namespace {
+
+Grid<2> one_node(int fields) {
+  Grid<2> g;
+  g.h = 1e-5;
+  g.n = {1, 1};
+  g.allocate(fields);
+  return g;
+}
+
+ContactMatrix matrix(int fields, PairLaw law, ContactNormal normal = ContactNormal::dominant) {
+  ContactMatrix cm;
+  cm.fields = fields;
+  cm.normal = normal;
+  cm.pair.assign(static_cast<std::size_t>(fields * fields), law);
+  return cm;
+}
+
+// a on the left (its volume grows towards -x: grad V_a points -x, outward normal +x), b on the right.
+void two_bodies(Grid<2>& g, const Vec<2>& va, const Vec<2>& vb) {
+  g.mass[0] = 2.0;
+  g.mass[1] = 3.0;
+  g.mom[0] = 2.0 * va;
+  g.mom[1] = 3.0 * vb;
+  g.vgrad[0] = Vec<2>(-1.0, 0.0);
+  g.vgrad[1] = Vec<2>(0.5, 0.0);
+}
+
+constexpr double kMuRed = 2.0 * 3.0 / 5.0;  // reduced mass
+
+}  // namespace
+
+TEST(NodeLaw, FrictionlessStopsNormalApproachKeepsTangential) {
+  Grid<2> g = one_node(2);
+  two_bodies(g, Vec<2>(1.0, 0.4), Vec<2>(-0.5, -0.2));
+  const Vec<2> p0 = g.mom[0] + g.mom[1];
+  const double w = field_contact<2>(g, matrix(2, {ContactLaw::frictionless, 0, 0}), 2, 1e-9, 0.0);
+  const Vec<2> va = g.mom[0] / 2.0, vb = g.mom[1] / 3.0;
+  EXPECT_NEAR(va.x(), vb.x(), 1e-15);           // normal relative velocity removed
+  EXPECT_NEAR(va.x(), (2.0 - 1.5) / 5.0, 1e-15);  // centre-of-mass normal velocity
+  EXPECT_DOUBLE_EQ(va.y(), 0.4);                // tangential untouched
+  EXPECT_DOUBLE_EQ(vb.y(), -0.2);
+  EXPECT_EQ((g.mom[0] + g.mom[1] - p0).norm(), 0.0);
+  EXPECT_EQ(w, 0.0);
+}
+
+TEST(NodeLaw, SeparatingFieldsAreFree) {
+  Grid<2> g = one_node(2);
+  two_bodies(g, Vec<2>(-1.0, 0.4), Vec<2>(0.5, -0.2));
+  const auto m0 = g.mom;
+  field_contact<2>(g, matrix(2, {ContactLaw::coulomb, 0.5, 0}), 2, 1e-9, 0.0);
+  EXPECT_EQ(g.mom[0], m0[0]);
+  EXPECT_EQ(g.mom[1], m0[1]);
+}
+
+TEST(NodeLaw, CoulombSticksBelowAndSlidesAboveTheCap) {
+  // Normal relative speed 1.5, so the normal impulse is kMuRed * 1.5 = 1.8.
+  for (const double vt : {0.2, 3.0}) {
+    Grid<2> g = one_node(2);
+    two_bodies(g, Vec<2>(1.0, vt), Vec<2>(-0.5, 0.0));
+    const double mu = 0.3;
+    const double w = field_contact<2>(g, matrix(2, {ContactLaw::coulomb, mu, 0}), 2, 1e-9, 0.0);
+    const Vec<2> va = g.mom[0] / 2.0, vb = g.mom[1] / 3.0;
+    const double jt_stick = kMuRed * vt, jn = kMuRed * 1.5;
+    const double jt = 2.0 * vt - g.mom[0].y();  // tangential impulse taken from a
+    EXPECT_NEAR(va.x(), vb.x(), 1e-15);
+    if (jt_stick <= mu * jn) {
+      EXPECT_NEAR(va.y(), vb.y(), 1e-15);  // stick
+      EXPECT_NEAR(jt, jt_stick, 1e-14);
+      EXPECT_EQ(w, 0.0);
+    } else {
+      EXPECT_NEAR(jt, mu * jn, 1e-14);  // transmitted shear = mu x normal
+      const double slip = std::abs(va.y() - vb.y());
+      EXPECT_GT(slip, 0.0);
+      EXPECT_NEAR(w, mu * jn * slip, 1e-14);
+    }
+    EXPECT_NEAR((g.mom[0] + g.mom[1]).y(), 2.0 * vt, 1e-14);
+  }
+}
+
+TEST(NodeLaw, AdhesionAddsSaAcDtToTheCap) {
+  Grid<2> g = one_node(2);
+  two_bodies(g, Vec<2>(1.0, 3.0), Vec<2>(-0.5, 0.0));
+  const double mu = 0.1, sa = 1e8, dt = 1e-4;  // S_a A_c dt = 0.1, mu jn = 0.18
+  field_contact<2>(g, matrix(2, {ContactLaw::adhesion, mu, sa}), 2, dt, 0.0);
+  const double jt = 6.0 - g.mom[0].y();
+  EXPECT_NEAR(jt, sa * g.h * dt + mu * kMuRed * 1.5, 1e-14);
+}
+
+TEST(NodeLaw, WeldGivesCentreOfMassVelocity) {
+  Grid<2> g = one_node(2);
+  two_bodies(g, Vec<2>(-1.0, 0.4), Vec<2>(0.5, -0.2));  // even separating
+  field_contact<2>(g, matrix(2, {ContactLaw::weld, 0, 0}), 2, 1e-9, 0.0);
+  const Vec<2> vcm = (Vec<2>(-2.0, 0.8) + Vec<2>(1.5, -0.6)) / 5.0;
+  EXPECT_NEAR((g.mom[0] / 2.0 - vcm).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((g.mom[1] / 3.0 - vcm).norm(), 0.0, 1e-15);
+}
+
+TEST(NodeLaw, NormalOptionsDecideTheDirection) {
+  // Oblique gradients: dominant takes a's (larger) gradient, own gives each field its own.
+  Grid<2> g = one_node(2);
+  two_bodies(g, Vec<2>(1.0, 1.0), Vec<2>(0.0, 0.0));
+  g.vgrad[0] = Vec<2>(-2.0, 0.0);
+  g.vgrad[1] = Vec<2>(0.0, 1.0);
+  const PairLaw fl{ContactLaw::frictionless, 0, 0};
+  Grid<2> dom = g;
+  field_contact<2>(dom, matrix(2, fl, ContactNormal::dominant), 2, 1e-9, 0.0);
+  // n = +x: only the x relative velocity is removed.
+  EXPECT_NEAR(dom.mom[0].x() / 2.0, dom.mom[1].x() / 3.0, 1e-15);
+  EXPECT_DOUBLE_EQ(dom.mom[0].y(), 2.0);
+  Grid<2> avg = g;
+  field_contact<2>(avg, matrix(2, fl, ContactNormal::average), 2, 1e-9, 0.0);
+  const Vec<2> n = Vec<2>(2.0, 1.0).normalized();
+  EXPECT_NEAR((avg.mom[0] / 2.0 - avg.mom[1] / 3.0).dot(n), 0.0, 1e-15);
+  EXPECT_NEAR((avg.mom[0] + avg.mom[1] - g.mom[0] - g.mom[1]).norm(), 0.0, 1e-15);
+}
+
+TEST(NodeLaw, ThreeFieldsConserveMomentumAndStopApproach) {
+  Grid<2> g = one_node(3);
+  g.mass[0] = 1.0; g.mass[1] = 2.0; g.mass[2] = 0.5;
+  g.mom[0] = Vec<2>(1.0, 0.3);
+  g.mom[1] = Vec<2>(-2.0, 0.1);
+  g.mom[2] = Vec<2>(0.2, -0.4);
+  g.vgrad[0] = Vec<2>(-1.0, 0.1);
+  g.vgrad[1] = Vec<2>(0.8, 0.0);
+  g.vgrad[2] = Vec<2>(0.1, -0.3);
+  const Vec<2> p0 = g.mom[0] + g.mom[1] + g.mom[2];
+  field_contact<2>(g, matrix(3, {ContactLaw::coulomb, 0.3, 0}), 3, 1e-9, 0.0);
+  EXPECT_NEAR((g.mom[0] + g.mom[1] + g.mom[2] - p0).norm(), 0.0, 1e-15);
+  // Field 0 no longer approaches the rest along its normal (up to the momentum correction).
+  const Vec<2> n0 = Vec<2>(1.0, -0.1).normalized();
+  const Vec<2> vr = (g.mom[1] + g.mom[2]) / 2.5;
+  EXPECT_LT((g.mom[0] / 1.0 - vr).dot(n0), 0.05);
+}
