@@ -15,8 +15,8 @@ enum class ContactLaw { weld, frictionless, coulomb, adhesion };
 // Outward normal of field a at a node (see docs/theory/contact.md):
 //   dominant: from the volume gradient of whichever side (a or the rest) has the larger |grad V|,
 //             the other side antiparallel (default);
-//   average:  n_a proportional to grad V_rest - grad V_a;
-//   own:      n_a = -grad V_a / |grad V_a| (no pairing of normals).
+//   average:  n_a proportional to grad V_a - grad V_rest;
+//   own:      n_a = grad V_a / |grad V_a| (no pairing of normals); grad V points out of a field.
 enum class ContactNormal { dominant, average, own };
 
 struct PairLaw {

@@ -36,18 +36,18 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps) {
 
 namespace {
 
-// Outward unit normal of field a against the rest r; zero when the gradients give no direction.
+// Outward unit normal of field a against the rest r (grid.vgrad = sum V_p grad S_ip points out of a field); zero when the gradients give no direction.
 template <int D>
 Vec<D> contact_normal(ContactNormal mode, const Vec<D>& ga, const Vec<D>& gr, bool a_wins_tie) {
   Vec<D> n = Vec<D>::Zero();
   switch (mode) {
     case ContactNormal::dominant: {
       const double na = ga.squaredNorm(), nr = gr.squaredNorm();
-      n = (na > nr || (na == nr && a_wins_tie)) ? Vec<D>(-ga) : Vec<D>(gr);
+      n = (na > nr || (na == nr && a_wins_tie)) ? Vec<D>(ga) : Vec<D>(-gr);
       break;
     }
-    case ContactNormal::average: n = gr - ga; break;
-    case ContactNormal::own: n = -ga; break;
+    case ContactNormal::average: n = ga - gr; break;
+    case ContactNormal::own: n = ga; break;
   }
   const double len = n.norm();
   return len > 0.0 ? Vec<D>(n / len) : Vec<D>(Vec<D>::Zero());

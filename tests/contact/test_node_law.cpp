@@ -26,14 +26,14 @@ ContactMatrix matrix(int fields, PairLaw law, ContactNormal normal = ContactNorm
   return cm;
 }
 
-// a on the left (its volume grows towards -x: grad V_a points -x, outward normal +x), b on the right.
+// a on the left (grad V_a = sum V_p grad S points out of a: +x), b on the right.
 void two_bodies(Grid<2>& g, const Vec<2>& va, const Vec<2>& vb) {
   g.mass[0] = 2.0;
   g.mass[1] = 3.0;
   g.mom[0] = 2.0 * va;
   g.mom[1] = 3.0 * vb;
-  g.vgrad[0] = Vec<2>(-1.0, 0.0);
-  g.vgrad[1] = Vec<2>(0.5, 0.0);
+  g.vgrad[0] = Vec<2>(1.0, -0.0);
+  g.vgrad[1] = Vec<2>(-0.5, -0.0);
 }
 
 constexpr double kMuRed = 2.0 * 3.0 / 5.0;  // reduced mass
@@ -110,8 +110,8 @@ TEST(NodeLaw, NormalOptionsDecideTheDirection) {
   // Oblique gradients: dominant takes a's (larger) gradient, own gives each field its own.
   Grid<2> g = one_node(2);
   two_bodies(g, Vec<2>(1.0, 1.0), Vec<2>(0.0, 0.0));
-  g.vgrad[0] = Vec<2>(-2.0, 0.0);
-  g.vgrad[1] = Vec<2>(0.0, 1.0);
+  g.vgrad[0] = Vec<2>(2.0, -0.0);
+  g.vgrad[1] = Vec<2>(-0.0, -1.0);
   const PairLaw fl{ContactLaw::frictionless, 0, 0};
   Grid<2> dom = g;
   field_contact<2>(dom, matrix(2, fl, ContactNormal::dominant), 2, 1e-9, 0.0);
@@ -131,9 +131,9 @@ TEST(NodeLaw, ThreeFieldsConserveMomentumAndStopApproach) {
   g.mom[0] = Vec<2>(1.0, 0.3);
   g.mom[1] = Vec<2>(-2.0, 0.1);
   g.mom[2] = Vec<2>(0.2, -0.4);
-  g.vgrad[0] = Vec<2>(-1.0, 0.1);
-  g.vgrad[1] = Vec<2>(0.8, 0.0);
-  g.vgrad[2] = Vec<2>(0.1, -0.3);
+  g.vgrad[0] = Vec<2>(1.0, -0.1);
+  g.vgrad[1] = Vec<2>(-0.8, -0.0);
+  g.vgrad[2] = Vec<2>(-0.1, 0.3);
   const Vec<2> p0 = g.mom[0] + g.mom[1] + g.mom[2];
   field_contact<2>(g, matrix(3, {ContactLaw::coulomb, 0.3, 0}), 3, 1e-9, 0.0);
   EXPECT_NEAR((g.mom[0] + g.mom[1] + g.mom[2] - p0).norm(), 0.0, 1e-15);
