@@ -200,6 +200,15 @@ def ci(fit, name):
     return get(fit, "parameters", name, "ci_low"), get(fit, "parameters", name, "ci_high")
 
 
+def snapshot_material_names(run):
+    """Material names in the order of the snapshot's material index (run.json 'materials')."""
+    try:
+        with open(os.path.join(run["dir"], "run.json")) as f:
+            return [m["name"] for m in json.load(f).get("materials", [])]
+    except (OSError, ValueError, KeyError):
+        return []
+
+
 def last_snapshot(run_dir):
     files = sorted(glob.glob(os.path.join(run_dir, "snapshots", "snap_*.h5")))
     return files[-1] if files else None
@@ -262,13 +271,32 @@ def main():
                 x = np.array(h["position"])
                 mat = np.array(h["material"]).ravel()
                 vm = np.array(h["von_mises"]).ravel()
-            fig, ax = plt.subplots(1, 2, figsize=(10, 5))
-            s = max(0.2, 2e4 / max(len(mat), 1))
-            ax[0].scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=mat, s=s, cmap="tab10", marker=".", linewidths=0)
-            sc = ax[1].scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=vm / 1e6, s=s, cmap="viridis", marker=".", linewidths=0)
+                vol = np.array(h["volume"]).ravel() if "volume" in h else None
+            names = snapshot_material_names(snap_run)
+            fig, ax = plt.subplots(1, 2, figsize=(11, 5.2))
+            # Each particle drawn as a square of its own area (volume per unit depth), so the
+            # picture is continuous like the paper's Fig. 1b and voids show as white.
+            xmin, xmax = x[:, 0].min(), x[:, 0].max()
+            ymin, ymax = x[:, 1].min(), x[:, 1].max()
+            side = np.sqrt(np.median(vol)) if vol is not None and len(vol) else (xmax - xmin) / 200
+            for a_ in ax:
+                a_.set_xlim((xmin - side) * 1e3, (xmax + side) * 1e3)
+                a_.set_ylim((ymin - side) * 1e3, (ymax + side) * 1e3)
+                a_.set_aspect("equal")
+            fig.canvas.draw()
+            bbox = ax[0].get_window_extent()
+            pts_per_mm = bbox.width / fig.dpi * 72 / ((xmax - xmin + 2 * side) * 1e3)
+            s = (side * 1e3 * pts_per_mm) ** 2
+            colours = ["#d9a441", "#2a7ab0", "#7f7f7f", "#59a14f", "#e15759"]
+            for k in np.unique(mat):
+                sel = mat == k
+                label = names[int(k)] if int(k) < len(names) else f"material {int(k)}"
+                ax[0].scatter(x[sel, 0] * 1e3, x[sel, 1] * 1e3, s=s, marker="s", linewidths=0,
+                              color=colours[int(k) % len(colours)], label=label)
+            ax[0].legend(loc="upper right", fontsize=8, markerscale=max(1.0, 6 / max(np.sqrt(s), 1e-3)))
+            sc = ax[1].scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=vm / 1e6, s=s, cmap="viridis", marker="s", linewidths=0)
             fig.colorbar(sc, ax=ax[1], label="von Mises stress (MPa)")
             for a_ in ax:
-                a_.set_aspect("equal")
                 a_.set_xlabel("x (mm)")
                 a_.set_ylabel("y (mm)")
             ax[0].set_title("material")
