@@ -353,8 +353,10 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
   wall_start_ = now_s();
   const double t_end = sc_.control.end_time;
   const int rows = sc_.control.history_points;
+  Measurement last;  // the final progress line shows the last measured state, not an empty one
   auto emit_row = [&] {
     Measurement m = measure();
+    last = m;
     if (history_.open()) {
       auto v = row_values(m, static_cast<int>(sc_.bodies.size()));
       v[0] = static_cast<double>(solver_.step_count());
@@ -398,7 +400,6 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
     write_run_json("failed", e.what());
     throw;
   }
-  Measurement last;
   last.t = solver_.time();
   report_progress(last, true);
   write_run_json("finished", "");
