@@ -1,9 +1,10 @@
 #pragma once
-// Dense random packing of disks of given radii in a walled rectangle by growth with overlap
-// removal (a force-biased algorithm in the family of Jodrey & Tory 1985 and Moscinski et al. 1989,
-// driven like Lubachevsky & Stillinger 1990: all radii grow together from a fraction of their size,
-// and after each growth step overlaps are removed by Gauss-Seidel projections that move the
-// smaller disk of a pair more). See docs/theory/microstructure.md.
+// Dense random packing of disks of given radii in a rectangle (periodic or walled): soft-disk
+// energy minimisation (FIRE, Bitzek et al. 2006) driving growth of the coarse disks from random
+// positions (Lubachevsky & Stillinger 1990 style compression, force-biased overlap removal in the
+// family of Jodrey & Tory 1985 / Moscinski et al. 1989), then the fine disks, largest first, put
+// into the largest empty circles of the packing and relaxed with everything else, then relocation
+// of the most squeezed fine disks into the largest voids. See docs/theory/microstructure.md.
 #include <vector>
 
 #include <Eigen/Dense>
@@ -13,28 +14,30 @@
 namespace pbx {
 
 struct DiskPackerOptions {
-  double start_scale = 0.55;   // radii start at this fraction of their final size
-  int growth_steps = 400;      // scale steps from start_scale to 1 (geometric)
-  int sweeps_per_step = 60;    // projection sweeps allowed per step before it counts as jammed
-  int final_sweeps = 20000;    // sweeps allowed at full size to remove the last overlaps
-  bool periodic = false;       // periodic box (no walls): the box is a window into a bulk packing
-  int candidates = 1;          // random points tried per disk; the one with most clearance wins
+  bool periodic = false;        // periodic box (no walls): the box is a window into a bulk packing
+  double start_scale = 0.5;     // random disks start at this fraction of their size and grow
+  int growth_steps = 10;        // growth steps of the random disks (each relaxed)
+  int batch = 10;               // void-filling disks inserted between two relaxations
+  int relocations = 40;         // squeezed void-filling disks moved to the largest void, at most
+  int max_iterations = 5000;    // FIRE iterations per relaxation
+  int final_iterations = 100000;  // FIRE iterations of the last relaxation
 };
 
 struct DiskPackerResult {
   std::vector<Eigen::Vector2d> centres;
   bool overlap_free = false;  // every pair and every wall satisfied exactly
   double max_overlap = 0;     // m, largest remaining pair or wall overlap
-  int sweeps = 0;             // projection sweeps done in total
+  double fit_scale = 0;       // largest factor (<= 1) all radii could take without any overlap
+  int relocations = 0;        // relocation moves done
+  int iterations = 0;         // FIRE iterations in total
 };
 
 // radius[i]: disk radius for disk-disk contacts; wall_radius[i] >= radius[i]: distance the centre
-// keeps from the walls (room for the binder coat). Disks are placed at random (uniformly inside the
-// walls) in the order given.
-// Disks grow in stages: stage[i] = 0 first; the disks of stage k are placed and grown while those
-// of earlier stages are at full size (and still move).
+// keeps from the walls (room for the binder coat; unused when periodic). Disks with
+// into_voids[i] == false are placed at random (uniformly) and grown first; the others are then put
+// into the largest voids in order of decreasing radius (ties: index order).
 DiskPackerResult pack_disks(const std::vector<double>& radius, const std::vector<double>& wall_radius,
-                            const std::vector<int>& stage, const Eigen::Vector2d& box, Rng& rng,
+                            const std::vector<bool>& into_voids, const Eigen::Vector2d& box, Rng& rng,
                             const DiskPackerOptions& opt = {});
 
 }  // namespace pbx

@@ -176,31 +176,25 @@ Packing generate_packing(const PackingSpec& spec) {
   const auto sample = sample_diameters(spec.sizes, tatb_area, 0.5 * spec.tolerance * box_area / (1.0 + beta), size_rng);
 
   std::vector<double> radius, wall_radius;
-  std::vector<int> stage;
-  int fine_seen = 0;
+  std::vector<bool> into_voids;
   for (const auto& s : sample) {
     radius.push_back(0.5 * s.diameter);
     wall_radius.push_back(0.5 * s.diameter);
-    // Coarse grains grow first; fine ones then arrive three at a time, each into the roomiest
-    // spot, which packs the voids between coarse grains densely.
-    stage.push_back(s.mode == 0 ? 0 : 1 + fine_seen++ / 3);
+    // Coarse grains are placed at random and grown; fine ones then fill the largest voids.
+    into_voids.push_back(s.mode == 1);
   }
   DiskPackerOptions opt;
   opt.periodic = spec.periodic;
-  opt.start_scale = 0.2;
-  opt.growth_steps = 200;
-  opt.sweeps_per_step = 100;
-  opt.candidates = 300;
 
   DiskPackerResult best;
   std::vector<double> diameter(sample.size());
   for (std::size_t i = 0; i < sample.size(); ++i) diameter[i] = sample[i].diameter;
-  int shrunk = 0;
+  int shrunk = 0, used = 0;
   double max_shrink = 0;
   for (int attempt = 0; attempt < spec.attempts; ++attempt) {
     // Placements differ per attempt; the diameters are the same sample every time.
     Rng rng(spec.seed * 0x9E3779B97F4A7C15ull + 0xD1B54A32D192ED03ull * (attempt + 1));
-    auto res = pack_disks(radius, wall_radius, stage, spec.box, rng, opt);
+    auto res = pack_disks(radius, wall_radius, into_voids, spec.box, rng, opt);
     if (!res.overlap_free) {
       // A jammed packing whose last overlaps are tiny is accepted after shrinking the smaller
       // grain of each overlapping pair just enough, if no grain loses more than kMaxShrink of its
@@ -239,7 +233,8 @@ Packing generate_packing(const PackingSpec& spec) {
         res.max_overlap = 0;
       }
     }
-    if (attempt == 0 || res.max_overlap < best.max_overlap || res.overlap_free) best = std::move(res);
+    used = attempt + 1;
+    if (attempt == 0 || res.fit_scale > best.fit_scale || res.overlap_free) best = std::move(res);
     if (best.overlap_free) break;
   }
 
@@ -252,6 +247,7 @@ Packing generate_packing(const PackingSpec& spec) {
   p.contact_gap = spec.contact_gap;
   p.grains_shrunk = shrunk;
   p.max_shrink = max_shrink;
+  p.attempt = used;
   for (std::size_t i = 0; i < sample.size(); ++i) p.grains.push_back({best.centres[i], diameter[i], 0, 0, sample[i].mode});
 
   if (!best.overlap_free) {

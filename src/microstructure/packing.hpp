@@ -53,6 +53,7 @@ struct Packing {
   PhaseImage image;                             // only for imported packings (nx > 0)
   int grains_shrunk = 0;                        // grains reduced to remove the last overlaps
   double max_shrink = 0;                        // largest relative diameter reduction (<= 1 %)
+  int attempt = 0;                              // placement that succeeded (1-based; 0 imported)
   PackingStats stats;                           // measured on the geometry, see measure()
 };
 

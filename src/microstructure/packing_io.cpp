@@ -99,8 +99,8 @@ void write_packing(const Packing& p, const std::string& dir) {
                       s.grains_coarse, s.grains_fine);
     js << fmt::format("  \"coat_min_m\": {},\n  \"coat_max_m\": {},\n", json_number(s.coat_min),
                       json_number(s.coat_max));
-    js << fmt::format("  \"grains_shrunk\": {},\n  \"max_relative_shrink\": {},\n", p.grains_shrunk,
-                      json_number(p.max_shrink));
+    js << fmt::format("  \"grains_shrunk\": {},\n  \"max_relative_shrink\": {},\n  \"attempt\": {},\n",
+                      p.grains_shrunk, json_number(p.max_shrink), p.attempt);
     js << fmt::format("  \"colours\": {},\n  \"contact_gap_m\": {},\n", s.colours, json_number(p.contact_gap));
     js << fmt::format("  \"diameter_histogram\": [{}]\n", h);
     js << "}\n";
