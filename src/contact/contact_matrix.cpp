@@ -60,6 +60,7 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
   cm.fields = static_cast<int>(field_material.size());
   const std::size_t nf = field_material.size();
   cm.pair.assign(nf * nf, PairLaw{});
+  cm.field_material = field_material;
   if (!table) return cm;
   const DeckTable& t = *table;
 

@@ -28,6 +28,7 @@ struct PairLaw {
 struct ContactMatrix {
   int fields = 0;                  // deformable fields covered
   std::vector<PairLaw> pair;       // fields x fields, symmetric
+  std::vector<int> field_material; // material index of each field's particles (-1: mixed)
   ContactNormal normal = ContactNormal::dominant;
   double position_cutoff = 0;      // displacement check, cells; 0 = off
 

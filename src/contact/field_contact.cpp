@@ -55,16 +55,42 @@ Vec<D> contact_normal(ContactNormal mode, const Vec<D>& ga, const Vec<D>& gr, bo
 
 }  // namespace
 
+namespace {
+// What one chunk of nodes hands to the ordered reduction.
 template <int D>
-double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps) {
+struct PassSums {
+  double work = 0;
+  ContactTally<D> tally;
+  PassSums& operator+=(const PassSums& o) {
+    work += o.work;
+    tally += o.tally;
+    return *this;
+  }
+};
+}  // namespace
+
+template <int D>
+double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
+                     ContactTally<D>* tally) {
   if (deformable < 2) return 0.0;
   const long nn = grid.nodes();
   const double area = std::pow(grid.h, D - 1);  // contact area of a node (per metre of depth in 2-D)
   const double reach = cm.position_cutoff * grid.h;
   const std::size_t nf = static_cast<std::size_t>(deformable);
+  PassSums<D> zero{0.0, ContactTally<D>(tally ? deformable : 0)};
 
-  return ordered_reduce(nn, 0.0, [&](long begin, long end) {
-    double work = 0;
+  PassSums<D> sums = ordered_reduce(nn, zero, [&](long begin, long end) {
+    PassSums<D> out = zero;
+    double& work = out.work;
+    // Half of the impulse d on field a, booked to the pair (a, partner): both sides of a pair
+    // book the same exchange.
+    auto book = [&](int a, int partner, const Vec<D>& d, double dn_abs, double dt_abs) {
+      if (!tally) return;
+      PairImpulse<D>& p = a < partner ? out.tally.at(a, partner) : out.tally.at(partner, a);
+      p.on_first += a < partner ? Vec<D>(0.5 * d) : Vec<D>(-0.5 * d);
+      p.normal += 0.5 * dn_abs;
+      p.shear += 0.5 * dt_abs;
+    };
     std::vector<int> present;
     std::vector<Vec<D>> dp(nf);
     present.reserve(nf);
@@ -105,6 +131,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
         Vec<D>& d = dp[static_cast<std::size_t>(ia)];
         if (law.law == ContactLaw::weld) {
           d = stick;
+          book(a, partner, d, 0.0, 0.0);
           continue;
         }
         d.setZero();
@@ -120,12 +147,14 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
           cap = law.adhesion * area * dt - law.friction * dn;
         const double scale = tn > cap ? cap / tn : 1.0;
         d = dn * n + scale * t;
+        book(a, partner, d, -dn, scale * tn);
         if (scale < 1.0 && cap > 0.0) {
-          // Friction impulse times the tangential slip velocity left after it; half per field,
+          // Friction impulse times the mean of the tangential slip speeds before and after it
+          // (exactly the kinetic energy the tangential exchange removes); half per field,
           // because both sides of a pair evaluate the same exchange.
-          const Vec<D> va = (pa + d) / ma, vr = (pr - d) / mr;
-          const Vec<D> slip = (va - vr) - (va - vr).dot(n) * n;
-          work += 0.5 * cap * slip.norm();
+          const Vec<D> v0 = pa / ma - pr / mr, v1 = (pa + d) / ma - (pr - d) / mr;
+          const double s0 = (v0 - v0.dot(n) * n).norm(), s1 = (v1 - v1.dot(n) * n).norm();
+          work += 0.25 * cap * (s0 + s1);
         }
       }
       // Exact momentum balance at the node (round-off and 3+ field nodes).
@@ -136,13 +165,15 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
         grid.mom[ka] += dp[ia] - (grid.mass[ka] / mtot) * residual;
       }
     }
-    return work;
+    return out;
   }, 1024);
+  if (tally) *tally += sums.tally;
+  return sums.work;
 }
 
 template void weld_fields<2>(Grid<2>&, int, double);
 template void weld_fields<3>(Grid<3>&, int, double);
-template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double);
-template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double);
+template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double, ContactTally<2>*);
+template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double, ContactTally<3>*);
 
 }  // namespace pbx

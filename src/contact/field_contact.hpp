@@ -9,6 +9,7 @@
 // and the node's impulses are made to sum to zero exactly (mass-weighted correction, which only
 // acts at nodes with three or more fields or with unpaired normals).
 #include "contact/contact_matrix.hpp"
+#include "contact/contact_tally.hpp"
 #include "grid/grid.hpp"
 
 namespace pbx {
@@ -19,8 +20,10 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 
 // Applies the contact matrix to the momenta of fields [0, deformable) at every node with at least
 // two fields; dt is the step (adhesion cap). Returns the frictional work of the pass, J
-// (per metre of depth in 2-D), summed in a thread-count independent order.
+// (per metre of depth in 2-D), summed in a thread-count independent order. With a tally, the
+// impulses of the pass are added to it per pair of fields (history bookkeeping).
 template <int D>
-double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps);
+double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
+                     ContactTally<D>* tally = nullptr);
 
 }  // namespace pbx

@@ -65,7 +65,10 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
               const double cap = bodies[b].friction * (-vn);
               const double scale = std::min(1.0, cap / vt_norm);
               dp -= m * scale * vt;
-              if (scale < 1.0) fw = m * cap * (vt_norm - cap);  // energy dissipated by sliding
+              // Energy dissipated by sliding: the friction impulse m cap times the mean of the slip
+              // speeds before (vt_norm) and after (vt_norm - cap) it, i.e. exactly the kinetic
+              // energy the tangential impulse removes at the node.
+              if (scale < 1.0) fw = m * cap * (vt_norm - 0.5 * cap);
             }
           }
           grid.mom[k] += dp;

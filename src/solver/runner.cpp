@@ -45,6 +45,13 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("com_v{}_m_s", axes[d]));
   for (auto& b : sc_.bodies)
     for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("{}_f{}_N_per_m", b.name, axes[d]));
+  if (!sc_.contact.all_weld()) contact_pairs_ = contact_material_pairs(sc_.contact, sc_.material_names);
+  for (auto& mp : contact_pairs_) {
+    columns_.push_back(fmt::format("contact_{}_fn_N_per_m", mp.name));
+    columns_.push_back(fmt::format("contact_{}_ft_N_per_m", mp.name));
+    if (mp.first != mp.second)
+      for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("contact_{}_f{}_N_per_m", mp.name, axes[d]));
+  }
   if (!opt_.out_dir.empty()) {
     std::filesystem::create_directories(opt_.out_dir);
     if (!restart) history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
@@ -116,6 +123,16 @@ Measurement Runner<D>::measure() {
     b.impulse.setZero();
     b.work = 0;
   }
+  auto& tally = solver_.contact_tally();
+  for (auto& mp : contact_pairs_) {
+    const PairImpulse<D> pi = material_pair_impulse<D>(tally, sc_.contact, mp);
+    const double inv = span > 0 ? 1.0 / span : 0.0;
+    std::vector<double> f = {pi.normal * inv, pi.shear * inv};
+    if (mp.first != mp.second)
+      for (int d = 0; d < D; ++d) f.push_back(pi.on_first[d] * inv);
+    m.pair_force.push_back(std::move(f));
+  }
+  tally.clear();
   t_last_row_ = t;
   return m;
 }
@@ -129,6 +146,8 @@ std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
   for (double x : m.momentum) v.push_back(x);
   for (double x : m.com_velocity) v.push_back(x);
   for (auto& f : m.body_force)
+    for (double x : f) v.push_back(x);
+  for (auto& f : m.pair_force)
     for (double x : f) v.push_back(x);
   return v;
 }

@@ -24,6 +24,9 @@ struct Measurement {
   double mass = 0;
   std::vector<double> momentum, com_velocity;     // D components
   std::vector<std::vector<double>> body_force;    // per rigid body: force ON the specimen (D)
+  // Per contact material pair (Runner::contact_pairs()): normal and shear force summed over the
+  // interface nodes, then, when the materials differ, the net force on the first (D), N (per m).
+  std::vector<std::vector<double>> pair_force;
 };
 
 struct RunOptions {
@@ -45,6 +48,7 @@ class Runner {
   void run(const std::function<void(const Measurement&)>& on_row = {});
   Solver<D>& solver() { return solver_; }
   const std::vector<std::string>& columns() const { return columns_; }
+  const std::vector<MaterialPair>& contact_pairs() const { return contact_pairs_; }
   static std::vector<double> row_values(const Measurement& m, int nbodies);
   Measurement measure();
   void write_snapshot();
@@ -62,6 +66,7 @@ class Runner {
   CsvWriter history_;
   SnapshotWriter snapshots_;
   std::vector<std::string> columns_;
+  std::vector<MaterialPair> contact_pairs_;  // material pairs with contact columns in history.csv
   double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1;
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;

@@ -52,6 +52,7 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   for (auto& m : sc_.materials) cmax_ = std::max(cmax_, m->initial_wave_speed());
   for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
   track_gradients_ = sc_.deformable_fields > 1;
+  contact_tally_ = ContactTally<D>(sc_.deformable_fields);
   static_presence_.resize(sc_.bodies.size());
 }
 
@@ -245,7 +246,8 @@ void Solver<D>::contact(bool record) {
   if (sc_.contact.fields < 2 || sc_.contact.all_weld()) {
     weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
   } else {
-    const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_);
+    const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
+                                             record ? &contact_tally_ : nullptr);
     if (record) dissipated_ += friction;
   }
 }

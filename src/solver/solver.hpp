@@ -5,6 +5,7 @@
 // Each stage is a member function that can be tested alone.
 #include <vector>
 
+#include "contact/contact_tally.hpp"
 #include "solver/bins.hpp"
 #include "solver/scene.hpp"
 
@@ -28,6 +29,8 @@ class Solver {
   double internal_energy() const { return internal_; }      // integrated stress work
   double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
   double max_wave_speed() const { return cmax_; }            // unscaled, m/s
+  // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
+  ContactTally<D>& contact_tally() { return contact_tally_; }
 
   // Clock and accumulators, saved in checkpoints and restored on restart.
   struct State {
@@ -70,6 +73,7 @@ class Solver {
   double half_width_ = 0;  // particle half-width in cells (uGIMP)
   bool track_gradients_ = false;  // volume gradients for contact normals (several fields)
   std::vector<std::vector<std::pair<long, double>>> static_presence_;
+  ContactTally<D> contact_tally_;
 };
 
 }  // namespace pbx

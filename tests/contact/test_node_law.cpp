@@ -82,7 +82,10 @@ TEST(NodeLaw, CoulombSticksBelowAndSlidesAboveTheCap) {
       EXPECT_NEAR(jt, mu * jn, 1e-14);  // transmitted shear = mu x normal
       const double slip = std::abs(va.y() - vb.y());
       EXPECT_GT(slip, 0.0);
-      EXPECT_NEAR(w, mu * jn * slip, 1e-14);
+      // friction impulse x mean of the slip speeds before (vt) and after: the kinetic energy lost
+      EXPECT_NEAR(w, mu * jn * 0.5 * (vt + slip), 1e-14);
+      const double ke0 = 0.5 * 2.0 * vt * vt, ke1 = 0.5 * 2.0 * va.y() * va.y() + 0.5 * 3.0 * vb.y() * vb.y();
+      EXPECT_NEAR(w, ke0 - ke1, 1e-14);
     }
     EXPECT_NEAR((g.mom[0] + g.mom[1]).y(), 2.0 * vt, 1e-14);
   }
