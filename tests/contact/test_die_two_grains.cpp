@@ -1,0 +1,100 @@
+// Die compression of a small two-grain + binder specimen: two stiff grains on two fields (colours)
+// touching each other, a soft binder field around them, Coulomb mu = 0.3 between every pair of
+// fields and at the die walls. After the punch ramp, in every history row,
+//   punch force = bottom and side wall forces + rate of change of the specimen's momentum
+// within 1 % of the punch force (y), and the x forces balance the x momentum change to 1 % of it:
+// contact between fields exchanges momentum only inside the specimen, so the rigid-body reactions
+// are the only external forces. The grain-grain and grain-binder contacts carry load.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "../engine/scene_fixture.hpp"
+
+using namespace pbx;
+
+namespace {
+const char* kDeck = R"(
+[run]
+end_strain = 0.01
+history_points = 41
+snapshots = 0
+[grid]
+cell_size = "10 um"
+[solver]
+mass_scaling = 100
+[die]
+width = "0.2 mm"
+height = "0.24 mm"
+punch_velocity = "0.3 m/s"
+ramp_strain = 0.002
+wall_friction = 0.3
+[materials.tatb]
+model = "linear_elastic"
+density = "1.934 g/cm3"
+bulk_modulus = "10.59 GPa"
+shear_modulus = "11.5 GPa"
+[materials.binder]
+model = "linear_elastic"
+density = "2.02 g/cm3"
+youngs_modulus = "1 GPa"
+poisson_ratio = 0.4
+[[geometry]]
+shape = "disk"
+center = ["0.055 mm", "0.12 mm"]
+radius = "0.045 mm"
+material = "tatb"
+field = "tatb_0"
+[[geometry]]
+shape = "disk"
+center = ["0.145 mm", "0.12 mm"]
+radius = "0.045 mm"
+material = "tatb"
+field = "tatb_1"
+[[geometry]]
+min = ["0 mm", "0 mm"]
+max = ["0.2 mm", "0.24 mm"]
+material = "binder"
+[contact]
+default = "coulomb"
+friction = 0.3
+)";
+}  // namespace
+
+TEST(DieTwoGrains, PunchForceEqualsWallForcesPlusMomentumRate) {
+  Scene<2> sc = test::scene_from(kDeck);
+  ASSERT_TRUE(sc.die);
+  const Die die = *sc.die;
+  Runner<2> runner(sc, test::quiet());
+  ASSERT_EQ(runner.contact_pairs().size(), 2u);  // binder_tatb, tatb_tatb
+  std::vector<Measurement> rows;
+  runner.run([&](const Measurement& m) { rows.push_back(m); });
+  ASSERT_GT(rows.size(), 30u);
+  double worst_y = 0, worst_x = 0;
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    const Measurement& m = rows[k];
+    if (m.strain < 2 * die.ramp_strain) continue;
+    const double span = m.t - rows[k - 1].t;
+    double walls_y = 0, all_x = 0;
+    for (int b : {die.left, die.right, die.bottom}) walls_y += m.body_force[static_cast<std::size_t>(b)][1];
+    for (auto& f : m.body_force) all_x += f[0];
+    const double dpy = (m.momentum[1] - rows[k - 1].momentum[1]) / span;
+    const double dpx = (m.momentum[0] - rows[k - 1].momentum[0]) / span;
+    // punch force (compression positive) = walls pushing up + (-) the rate of downward momentum
+    const double residual_y = m.punch_force - (walls_y - dpy);
+    EXPECT_LT(std::abs(residual_y), 0.01 * m.punch_force) << "strain " << m.strain;
+    EXPECT_LT(std::abs(all_x - dpx), 0.01 * m.punch_force) << "strain " << m.strain;
+    worst_y = std::max(worst_y, std::abs(residual_y) / m.punch_force);
+    worst_x = std::max(worst_x, std::abs(all_x - dpx) / m.punch_force);
+  }
+  std::printf("die, two grains + binder: |punch - walls - dp/dt| / punch <= %.2e (y), %.2e (x)\n", worst_y, worst_x);
+  // the grains really are in contact with each other and with the binder at the end
+  const Measurement& last = rows.back();
+  EXPECT_GT(last.punch_force, 0.0);
+  EXPECT_GT(last.pair_force.at(0)[0], 0.05 * last.punch_force);  // binder_tatb normal
+  EXPECT_GT(last.pair_force.at(1)[0], 0.0);                      // tatb_tatb normal
+  std::printf("punch %.4g N/m, binder-tatb fn %.4g, tatb-tatb fn %.4g N/m\n", last.punch_force,
+              last.pair_force[0][0], last.pair_force[1][0]);
+}
