@@ -40,7 +40,7 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
     BodySums<D> s(nb);
     for (long i = begin; i < end; ++i) {
       for (std::size_t b = 0; b < nb; ++b) {
-        if (grid.mass[grid.at(bodies[b].field, i)] <= 0.0) continue;
+        if (grid.rigid_presence(bodies[b].field, i) <= 0.0) continue;
         const Vec<D>& n = bodies[b].normal;
         const double xn = grid.position(i).dot(n);
         const bool behind = xn <= face[b];

@@ -59,9 +59,25 @@ inline void kernel_1d(double s, double a, double inv_h, int& base, std::array<do
     w = {1.0 - f, f, 0.0};
     g = {-inv_h, inv_h, 0.0};
   } else if constexpr (K == Kernel::ugimp) {
-    const double fl = std::floor(s);
-    base = static_cast<int>(fl) - (s - fl < 0.5 ? 1 : 0);
-    for (int k = 0; k < 3; ++k) detail::ugimp_1d(s - (base + k), a, inv_h, w[k], g[k]);
+    // With the middle node nearest to the particle, u = xi of the middle node lies in [-1/2, 1/2)
+    // and a <= 1/2, so each node meets at most two pieces of the kernel: the middle node the
+    // quadratic cap or the hat, the outer nodes (|xi| = 1 -+ u) the hat, the quadratic tail or
+    // nothing. Written as selects, the compiler emits no branches (the pieces switch at random
+    // as particles move, so branches would mispredict).
+    const double fl = std::floor(s + 0.5);
+    base = static_cast<int>(fl) - 1;
+    const double u = s - fl;
+    const double inv_2a = 0.5 / a, inv_4a = 0.25 / a, r = std::abs(u);
+    const double sgn = u < 0 ? -1.0 : 1.0;
+    w[1] = r < a ? 1.0 - (u * u + a * a) * inv_2a : 1.0 - r;
+    g[1] = (r < a ? -u * (2.0 * inv_2a) : -sgn) * inv_h;
+    // node base (xi = 1 + u >= 1/2): hat while u < -a, tail while u < a
+    const double q0 = a - u, q2 = a + u;
+    w[0] = u < -a ? -u : (u < a ? q0 * q0 * inv_4a : 0.0);
+    g[0] = (u < -a ? -1.0 : (u < a ? -q0 * inv_2a : 0.0)) * inv_h;
+    // node base+2 (xi = u - 1 <= -1/2): mirror image
+    w[2] = u > a ? u : (u > -a ? q2 * q2 * inv_4a : 0.0);
+    g[2] = (u > a ? 1.0 : (u > -a ? q2 * inv_2a : 0.0)) * inv_h;
   } else {
     const double fl = std::floor(s + 0.5);
     base = static_cast<int>(fl) - 1;

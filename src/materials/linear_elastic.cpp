@@ -4,6 +4,7 @@
 
 #include "io/deck.hpp"
 #include "materials/models.hpp"
+#include "materials/objective_rotation.hpp"
 
 namespace pbx {
 
@@ -22,10 +23,11 @@ class LinearElastic final : public Material<D> {
     double work = 0, cmax2 = 0;
     for (std::size_t k = 0; k < b.index.size(); ++k) {
       const auto p = b.index[k];
-      const Mat3 L = embed3<D>(b.L[p]);
-      const Sym3 Ddt = (b.dt) * sym_part(L);
+      // in plane strain the rotation and D dt act on the in-plane block only (closed forms)
+      const StepRotation<D> R(b.L[p], b.dt);
+      const Sym3 Ddt = strain_increment<D>(b.L[p], b.dt);
       const Sym3 s0 = b.stress[p];
-      Sym3 s = rotate(s0, hughes_winget(skew_part(L), b.dt));
+      Sym3 s = R.apply(s0);
       s += Sym3::identity(lambda * Ddt.trace()) + (2.0 * G_) * Ddt;
       b.stress[p] = s;
       work += stress_work(s0, s, Ddt, b.volume[p]);

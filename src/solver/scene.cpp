@@ -380,7 +380,7 @@ Scene<D> build_scene(const Deck& deck) {
     sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
   }
 
-  sc.grid.allocate(sc.deformable_fields + static_cast<int>(sc.bodies.size()));
+  sc.grid.allocate(sc.deformable_fields, static_cast<int>(sc.bodies.size()));
   return sc;
 }
 

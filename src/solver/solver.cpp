@@ -38,6 +38,15 @@ void with_kernel(Kernel k, F&& f) {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+// A strip's members are runs of a few consecutive particles (one row of cells across the strip),
+// so the hardware prefetchers miss the jump from one run to the next: the scatter and gather
+// loops ask for the data of the particle kPrefetchAhead members ahead.
+constexpr std::size_t kPrefetchAhead = 8;
+template <class... T>
+inline void prefetch(const T*... p) {
+  (__builtin_prefetch(p), ...);
+}
+
 }  // namespace
 
 template <int D>
@@ -139,6 +148,7 @@ void Solver<D>::reset_grid() {
   std::fill(g.moff.begin(), g.moff.end(), Vec<D>::Zero());
   if (track_gradients_) std::fill(g.vgrad.begin(), g.vgrad.end(), Vec<D>::Zero());
   std::fill(g.force.begin(), g.force.end(), Vec<D>::Zero());
+  std::fill(g.presence.begin(), g.presence.end(), 0.0);
 }
 
 template <int D>
@@ -154,7 +164,13 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (long s = phase; s < bins_.strips; s += 2) {
-      for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+      const auto& members = bins_.members[static_cast<std::size_t>(s)];
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        const std::uint32_t p = members[k];
+        if (k + kPrefetchAhead < members.size()) {
+          const std::uint32_t q = members[k + kPrefetchAhead];
+          prefetch(&P.x[q], &P.v[q], &P.stress[q], &P.mass[q], &P.volume[q], &P.field[q]);
+        }
         const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
         const long off = P.field[p] * nn;
         const double m = P.mass[p] * fs;
@@ -167,20 +183,58 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
         Vec<D>* go = g.moff.data() + off;
         Vec<D>* gg = g.vgrad.data() + off;
         const double vol = P.volume[p];
-        const bool grads = track_gradients_;
         const Vec<D> xs = P.x[p] - g.origin;
-        for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+        if constexpr (D == 2) {
+          // Tensor-product form of the 3 x 3 stencil, S = wx_i wy_j, G = (gx_i wy_j, wx_i gy_j):
+          // per node row j the particle's contributions are scaled by the row factors once, then
+          // by the x factors. The run-constant switches are tested once per row, so the node loops
+          // are straight-line code; every nodal sum keeps its order.
+          const auto& wx = st.w[0];
+          const auto& gx = st.g[0];
+          const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
+          for (int j = 0; j < 3; ++j) {
+            const long r = b0 + j * g.stride[1];
+            const double wy = st.w[1][j], gy = st.g[1][j];
+            if (mass_momentum) {
+              const double mj = wy * m;
+              const Vec<D> pj = wy * mv;
+              for (int i = 0; i < 3; ++i) {
+                gm[r + i] += wx[i] * mj;
+                gp[r + i] += wx[i] * pj;
+              }
+              if (track_offsets) {
+                const Vec<D> oj = mj * xs;
+                for (int i = 0; i < 3; ++i) go[r + i] += wx[i] * oj;
+              }
+              if (track_gradients_)
+                for (int i = 0; i < 3; ++i) gg[r + i] += vol * Vec<D>(gx[i] * wy, wx[i] * gy);
+            }
+            if (forces) {
+              const Vec<D> fa = wy * sv.col(0), fb = gy * sv.col(1);
+              const Vec<D> fj = wy * fext;
+              for (int i = 0; i < 3; ++i) {
+                gf[r + i] += gx[i] * fa + wx[i] * fb;
+                if (gravity) gf[r + i] += wx[i] * fj;
+              }
+            }
+          }
+        } else {
+          // one node loop per quantity, the run-constant switches tested once per particle
           if (mass_momentum) {
-            gm[i] += S * m;
-            gp[i] += S * mv;
-            if (track_offsets) go[i] += (S * m) * xs;
-            if (grads) gg[i] += vol * G;
+            for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+              gm[i] += S * m;
+              gp[i] += S * mv;
+            });
+            if (track_offsets) for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { go[i] += (S * m) * xs; });
+            if (track_gradients_) for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { gg[i] += vol * G; });
           }
           if (forces) {
-            gf[i] += sv * G;
-            if (gravity) gf[i] += S * fext;
+            for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+              gf[i] += sv * G;
+              if (gravity) gf[i] += S * fext;
+            });
           }
-        });
+        }
       }
     }
   }
@@ -209,7 +263,7 @@ void Solver<D>::rigid_p2g_impl() {
   const long nn = g.nodes();
   for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
     auto& body = sc_.bodies[b];
-    double* gm = g.mass.data() + body.field * nn;
+    double* gm = g.presence.data() + (body.field - g.deformable) * nn;
     auto& cache = static_presence_[b];
     if (!body.moving() && !cache.empty()) {
       for (auto& [i, S] : cache) gm[i] += S;
@@ -297,23 +351,56 @@ void Solver<D>::g2p_impl() {
 #pragma omp parallel for schedule(static)
     for (long k = 0; k < n; ++k) g.mom[k].setZero();
   }
-  double vmax = 0;
+  double vmax2 = 0;
   std::uint32_t bad = kNone;
   for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax) reduction(min : bad)
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad)
     for (long s = phase; s < bins_.strips; s += 2) {
-      for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+      const auto& members = bins_.members[static_cast<std::size_t>(s)];
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        const std::uint32_t p = members[k];
+        if (k + kPrefetchAhead < members.size()) {
+          const std::uint32_t q = members[k + kPrefetchAhead];
+          prefetch(&P.x[q], &P.v[q], &P.L[q], &P.field[q]);
+        }
         const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
         const long off = P.field[p] * nn;
         const Vec<D>* gv = g.vel.data() + off;
         const Vec<D>* gdv = g.dvel.data() + off;
         Vec<D> vpic = Vec<D>::Zero(), dv = Vec<D>::Zero();
         Mat<D> L = Mat<D>::Zero();
-        for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
-          vpic += S * gv[i];
-          dv += S * gdv[i];
-          if (integ == Integrator::usl) L += gv[i] * G.transpose();
-        });
+        if constexpr (D == 2) {
+          // Tensor-product form: per node row j the x-sums a_j = sum_i wx_i v_ij,
+          // b_j = sum_i gx_i v_ij and c_j = sum_i wx_i dv_ij; then v = sum_j wy_j a_j,
+          // dv = sum_j wy_j c_j and L = sum v (x) G = [sum_j wy_j b_j | sum_j gy_j a_j].
+          const auto& wx = st.w[0];
+          const auto& gx = st.g[0];
+          const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
+          for (int j = 0; j < 3; ++j) {
+            const long r = b0 + j * g.stride[1];
+            const double wy = st.w[1][j];
+            const Vec<D> aj = wx[0] * gv[r] + wx[1] * gv[r + 1] + wx[2] * gv[r + 2];
+            const Vec<D> cj = wx[0] * gdv[r] + wx[1] * gdv[r + 1] + wx[2] * gdv[r + 2];
+            vpic += wy * aj;
+            dv += wy * cj;
+            if (integ == Integrator::usl) {
+              const Vec<D> bj = gx[0] * gv[r] + gx[1] * gv[r + 1] + gx[2] * gv[r + 2];
+              L.col(0) += wy * bj;
+              L.col(1) += st.g[1][j] * aj;
+            }
+          }
+        } else if (integ == Integrator::usl) {
+          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+            vpic += S * gv[i];
+            dv += S * gdv[i];
+            L += gv[i] * G.transpose();
+          });
+        } else {
+          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+            vpic += S * gv[i];
+            dv += S * gdv[i];
+          });
+        }
         const Vec<D> vnew = alpha * (P.v[p] + dv) + (1.0 - alpha) * vpic;
         P.v[p] = vnew;
         if (musl) {
@@ -324,13 +411,13 @@ void Solver<D>::g2p_impl() {
           P.x[p] += dt * vpic;
           if (integ == Integrator::usl) P.L[p] = L;
         }
-        const double sp = vnew.norm();
-        if (!(sp < 1e300)) bad = std::min(bad, p);
-        vmax = std::max(vmax, sp);
+        const double sp2 = vnew.squaredNorm();  // sqrt once, of the maximum (monotonic)
+        if (!(sp2 < 1e300)) bad = std::min(bad, p);
+        vmax2 = std::max(vmax2, sp2);
       }
     }
   }
-  vmax_ = vmax;
+  vmax_ = std::sqrt(vmax2);
   if (bad != kNone)
     throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
                                        steps_, bad, sc_.material_names[P.material[bad]]));
@@ -473,31 +560,29 @@ void Solver<D>::advance_bodies() {
   const auto& g = sc_.grid;
   for (auto& b : sc_.bodies)
     if (b.moving()) b.move_to(t_);
-  // every particle must keep its whole stencil inside the grid
+  // Every particle must keep its whole stencil inside the grid; a particle that crossed into
+  // another strip needs a re-bin (rare: strains are small). One parallel pass over the strips
+  // checks both (every particle is in exactly one strip).
   const auto& P = sc_.particles;
-  const long np = static_cast<long>(P.size());
   std::uint32_t bad = kNone;
   bool rebin = false;
   const double inv_h = 1.0 / g.h;
-#pragma omp parallel for schedule(static) reduction(min : bad) reduction(|| : rebin)
-  for (long p = 0; p < np; ++p) {
-    for (int d = 0; d < D; ++d) {
-      const double s = (P.x[p][d] - g.origin[d]) * inv_h;
-      if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) bad = std::min(bad, static_cast<std::uint32_t>(p));
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : bad) reduction(|| : rebin)
+  for (long strip = 0; strip < bins_.strips; ++strip) {
+    const auto& members = bins_.members[static_cast<std::size_t>(strip)];
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const std::uint32_t p = members[k];
+      if (k + kPrefetchAhead < members.size()) prefetch(&P.x[members[k + kPrefetchAhead]]);
+      for (int d = 0; d < D; ++d) {
+        const double s = (P.x[p][d] - g.origin[d]) * inv_h;
+        if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) bad = std::min(bad, p);
+        else if (d == 0 && bins_.strip_of_cell(static_cast<long>(std::floor(s))) != strip) rebin = true;
+      }
     }
   }
   if (bad != kNone)
     throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m",
                                        steps_, t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
-  // re-bin particles that crossed into another strip (rare: strains are small)
-  for (long s = 0; s < bins_.strips && !rebin; ++s)
-    for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
-      const long cx = static_cast<long>(std::floor((P.x[p][0] - g.origin[0]) * inv_h));
-      if (bins_.strip_of_cell(cx) != s) {
-        rebin = true;
-        break;
-      }
-    }
   if (rebin) rebuild_bins();
 }
 

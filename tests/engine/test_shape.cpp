@@ -1,5 +1,8 @@
 // Shape functions: partition of unity, zero gradient sum, linear field reproduction, and the
 // uGIMP weight equal to the hat averaged over the particle domain.
+#include <cmath>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "grid/shape.hpp"
@@ -49,6 +52,29 @@ TEST(Shape, UgimpEqualsHatAveragedOverParticle) {
       }
       avg /= n;
       EXPECT_NEAR(w[k], avg, 1e-7) << "s=" << s << " k=" << k;
+    }
+  }
+}
+
+// The branch-free uGIMP stencil equals the piecewise definition (detail::ugimp_1d) node by node,
+// for 1, 2 and 3 particles per cell, including positions on the piece boundaries.
+TEST(Shape, UgimpStencilMatchesPiecewiseDefinition) {
+  for (const double a : {0.5, 0.25, 1.0 / 6.0}) {
+    std::vector<double> positions;
+    for (double s = 3.0; s < 5.0; s += 0.00731) positions.push_back(s);
+    for (double c = 3.0; c <= 5.0; c += 1.0)
+      for (const double d : {0.0, a, -a, 0.5, -0.5, 1.0 - a, a - 1.0}) positions.push_back(c + d);
+    for (const double s : positions) {
+      int base;
+      std::array<double, 3> w, g;
+      kernel_1d<Kernel::ugimp>(s, a, 2.0, base, w, g);
+      EXPECT_LE(std::abs(s - (base + 1)), 0.5 + 1e-15) << s;  // middle node nearest
+      for (int k = 0; k < 3; ++k) {
+        double wr, gr;
+        detail::ugimp_1d(s - (base + k), a, 2.0, wr, gr);
+        EXPECT_NEAR(w[k], wr, 1e-14) << "a=" << a << " s=" << s << " k=" << k;
+        EXPECT_NEAR(g[k], gr, 1e-13) << "a=" << a << " s=" << s << " k=" << k;
+      }
     }
   }
 }
