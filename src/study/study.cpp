@@ -171,6 +171,7 @@ StudySpec read_study(const std::string& file) {
       }
     }
   }
+  if (auto a = deck.root().optional_table("analysis")) s.analysis = AnalysisOptions::from_deck(*a);
   deck.check_unused();
   return s;
 }
@@ -234,7 +235,15 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const fs::path dir = out / "runs" / r.id;
     ++done;
     if (finished(dir)) {
-      std::fprintf(stderr, "pbxmpm study: [%d/%d] %s already finished, skipped\n", done, mine, r.id.c_str());
+      // re-analysed (cheap) so that a changed [analysis] table applies to finished runs as well
+      std::fprintf(stderr, "pbxmpm study: [%d/%d] %s already finished, skipped (re-analysed)\n", done, mine,
+                   r.id.c_str());
+      try {
+        analyze_run_to_file(dir.string(), s.analysis);
+      } catch (const std::exception& e) {
+        ++failed;
+        std::fprintf(stderr, "pbxmpm study: run %s: analysis failed: %s\n", r.id.c_str(), e.what());
+      }
       continue;
     }
     fs::create_directories(dir);
@@ -259,7 +268,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
                                   rho / 1000.0, r.seed);
       Runner<2> runner(scene, ro);
       runner.run();
-      analyze_run_to_file(dir.string(), AnalysisOptions{});
+      analyze_run_to_file(dir.string(), s.analysis);
     } catch (const std::exception& e) {
       ++failed;
       std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
@@ -273,6 +282,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     if (opt.report && failed == 0) {
       ReportOptions rep;
       rep.fits.reuse_analysis = true;
+      rep.fits.analysis = s.analysis;
       const std::string dir = build_report(out.string(), rep);
       std::fprintf(stderr, "pbxmpm study: report in %s/report.html\n", dir.c_str());
     }

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "analysis/run_analysis.hpp"
+
 namespace pbx {
 
 struct StudyRunSpec {
@@ -23,6 +25,9 @@ struct StudySpec {
   std::string base_deck;   // absolute path
   std::string base_text;
   std::vector<StudyRunSpec> runs;
+  // The study deck's optional [analysis] table, applied to every run, so all runs of a study are
+  // analysed with one linear window (automatic windows can end at different strains per run).
+  AnalysisOptions analysis;
 };
 
 // Reads and validates a study deck (unknown keys are errors naming the key).

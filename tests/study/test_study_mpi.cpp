@@ -80,3 +80,38 @@ TEST(Study, BadStudyDeckNamesTheKey) {
   }
   fs::remove_all(dir);
 }
+
+// A study-wide [analysis] table applies one linear window to every run, also to runs that were
+// already finished when the study is resumed; its unknown keys are errors.
+TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
+  const fs::path dir = make_study();
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  {
+    const StudySpec s = read_study((dir / "study.toml").string());
+    EXPECT_FALSE(s.analysis.window_lo.has_value());
+    ASSERT_EQ(run_study(s, o), 0);
+    EXPECT_NE(slurp(dir / "out" / "runs" / s.runs[0].id / "analysis.json").find("\"automatic\": true"),
+              std::string::npos);
+  }
+  std::ofstream(dir / "study.toml", std::ios::app) << "\n[analysis]\nlinear_window = [0.002, 0.005]\n";
+  const StudySpec s = read_study((dir / "study.toml").string());
+  ASSERT_TRUE(s.analysis.window_lo.has_value());
+  EXPECT_DOUBLE_EQ(*s.analysis.window_lo, 0.002);
+  ASSERT_EQ(run_study(s, o), 0);  // both runs finished: skipped, but re-analysed with the window
+  for (const auto& r : s.runs) {
+    const std::string a = slurp(dir / "out" / "runs" / r.id / "analysis.json");
+    EXPECT_NE(a.find("\"automatic\": false"), std::string::npos) << r.id;
+    EXPECT_NE(a.find("\"lo\": 0.002"), std::string::npos) << r.id;
+  }
+  std::ofstream(dir / "study.toml", std::ios::app) << "colour = 3\n";
+  try {
+    read_study((dir / "study.toml").string());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("analysis.colour"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
