@@ -1,8 +1,10 @@
 #pragma once
-// Material points as structure-of-arrays. Storage order never changes during a run (particles are
-// created sorted by cell), so material batches and history slots stay valid; the solver keeps
-// separate bin lists for race-free parallel scatter (see solver/bins.hpp).
+// Material points as structure-of-arrays. Storage order never changes during a run, so material
+// batches and history slots stay valid; build_scene orders the particles strip by strip (the
+// solver's scatter strips, solver/bins.hpp) before the batches are made, so that the solver's
+// per-strip loops sweep memory linearly.
 #include <cstdint>
+#include <algorithm>
 #include <vector>
 
 #include "core/tensor.hpp"
@@ -29,6 +31,30 @@ struct Particles {
     x.reserve(n); v.reserve(n); mass.reserve(n); volume0.reserve(n); volume.reserve(n);
     F.reserve(n); L.reserve(n); stress.reserve(n); material.reserve(n); field.reserve(n);
     slot.reserve(n);
+  }
+
+  // Puts particle order[k] at position k (order is a permutation of 0..size()-1). In place, one
+  // array at a time by following the permutation's cycles, so the peak memory of the run (the
+  // footprint target) does not grow by a copy of the arrays.
+  void reorder(const std::vector<std::uint32_t>& order) {
+    std::vector<bool> done(order.size());
+    auto permute = [&](auto& a) {
+      std::fill(done.begin(), done.end(), false);
+      for (std::size_t start = 0; start < order.size(); ++start) {
+        if (done[start]) continue;
+        auto first = a[start];
+        std::size_t k = start;
+        while (order[k] != start) {
+          a[k] = a[order[k]];
+          done[k] = true;
+          k = order[k];
+        }
+        a[k] = first;
+        done[k] = true;
+      }
+    };
+    permute(x); permute(v); permute(mass); permute(volume0); permute(volume);
+    permute(F); permute(L); permute(stress); permute(material); permute(field); permute(slot);
   }
 
   std::size_t add(const Vec<D>& pos, double vol, double m, int mat, int fld) {

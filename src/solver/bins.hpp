@@ -4,6 +4,8 @@
 // each side, so strips of the same parity never touch the same node: even strips scatter in
 // parallel, then odd strips. The sum order at every node is then fixed by the strip layout alone,
 // so results are bit-identical for any thread count. Strip width does not depend on threads.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +22,8 @@ struct StripBins {
     members.assign(static_cast<std::size_t>(strips), {});
   }
   long strip_of_cell(long cell_x) const { return std::min(strips - 1, std::max(0L, cell_x / width)); }
+  // s: x-coordinate in cell units from the grid origin
+  long strip_of(double s) const { return strip_of_cell(static_cast<long>(std::floor(s))); }
 };
 
 }  // namespace pbx

@@ -47,6 +47,20 @@ inline void prefetch(const T*... p) {
   (__builtin_prefetch(p), ...);
 }
 
+// The end-of-step check of a particle just moved to x, made where its position is updated (no
+// separate pass over the particles): every particle must keep its whole stencil inside the grid
+// (`left` collects the lowest offending index), and a particle that crossed out of its strip
+// needs a re-bin (`rebin`; rare: strains are small).
+template <int D>
+inline void check_position(const Grid<D>& g, const StripBins& bins, double inv_h, std::uint32_t p, const Vec<D>& x,
+                           long strip, std::uint32_t& left, bool& rebin) {
+  for (int d = 0; d < D; ++d) {
+    const double s = (x[d] - g.origin[d]) * inv_h;
+    if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) left = std::min(left, p);
+    else if (d == 0 && bins.strip_of(s) != strip) rebin = true;
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -75,6 +89,8 @@ void Solver<D>::restore(const State& s) {
   dissipated_ = s.dissipated;
   steps_ = s.steps;
   for (auto& b : sc_.bodies) b.move_to(t_);
+  left_grid_ = kNone;
+  rebin_ = false;
   rebuild_bins();
 }
 
@@ -84,8 +100,7 @@ void Solver<D>::rebuild_bins() {
   const double inv_h = 1.0 / sc_.grid.h;
   for (auto& m : bins_.members) m.clear();
   for (std::size_t p = 0; p < P.size(); ++p) {
-    const long cx = static_cast<long>(std::floor((P.x[p][0] - sc_.grid.origin[0]) * inv_h));
-    bins_.members[static_cast<std::size_t>(bins_.strip_of_cell(cx))].push_back(static_cast<std::uint32_t>(p));
+    bins_.members[static_cast<std::size_t>(bins_.strip_of((P.x[p][0] - sc_.grid.origin[0]) * inv_h))].push_back(static_cast<std::uint32_t>(p));
   }
 }
 
@@ -143,12 +158,22 @@ void Solver<D>::step() {
 template <int D>
 void Solver<D>::reset_grid() {
   auto& g = sc_.grid;
-  std::fill(g.mass.begin(), g.mass.end(), 0.0);
-  std::fill(g.mom.begin(), g.mom.end(), Vec<D>::Zero());
-  std::fill(g.moff.begin(), g.moff.end(), Vec<D>::Zero());
-  if (track_gradients_) std::fill(g.vgrad.begin(), g.vgrad.end(), Vec<D>::Zero());
-  std::fill(g.force.begin(), g.force.end(), Vec<D>::Zero());
-  std::fill(g.presence.begin(), g.presence.end(), 0.0);
+  // in parallel: a serial reset is the largest serial part of a step on two threads
+  const long n = static_cast<long>(g.mass.size()), nr = static_cast<long>(g.presence.size());
+  const bool gradients = track_gradients_;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static) nowait
+    for (long k = 0; k < n; ++k) {
+      g.mass[k] = 0.0;
+      g.mom[k].setZero();
+      g.moff[k].setZero();
+      g.force[k].setZero();
+      if (gradients) g.vgrad[k].setZero();
+    }
+#pragma omp for schedule(static)
+    for (long k = 0; k < nr; ++k) g.presence[k] = 0.0;
+  }
 }
 
 template <int D>
@@ -352,9 +377,10 @@ void Solver<D>::g2p_impl() {
     for (long k = 0; k < n; ++k) g.mom[k].setZero();
   }
   double vmax2 = 0;
-  std::uint32_t bad = kNone;
+  std::uint32_t bad = kNone, left = kNone;
+  bool rebin = false;
   for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad)
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad, left) reduction(|| : rebin)
     for (long s = phase; s < bins_.strips; s += 2) {
       const auto& members = bins_.members[static_cast<std::size_t>(s)];
       for (std::size_t k = 0; k < members.size(); ++k) {
@@ -410,6 +436,7 @@ void Solver<D>::g2p_impl() {
         } else {
           P.x[p] += dt * vpic;
           if (integ == Integrator::usl) P.L[p] = L;
+          check_position<D>(g, bins_, inv_h, p, P.x[p], s, left, rebin);
         }
         const double sp2 = vnew.squaredNorm();  // sqrt once, of the maximum (monotonic)
         if (!(sp2 < 1e300)) bad = std::min(bad, p);
@@ -418,6 +445,10 @@ void Solver<D>::g2p_impl() {
     }
   }
   vmax_ = std::sqrt(vmax2);
+  if (!musl) {
+    left_grid_ = left;
+    rebin_ = rebin;
+  }
   if (bad != kNone)
     throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
                                        steps_, bad, sc_.material_names[P.material[bad]]));
@@ -441,22 +472,30 @@ void Solver<D>::remap_gradient_impl() {
 #pragma omp parallel for schedule(static)
   for (long k = 0; k < nd; ++k)
     g.dvel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
-  const long np = static_cast<long>(P.size());
-#pragma omp parallel for schedule(static)
-  for (long p = 0; p < np; ++p) {
-    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
-    const long off = P.field[p] * nn;
-    const Vec<D>* gv = g.vel.data() + off;
-    const Vec<D>* gr = g.dvel.data() + off;
-    Vec<D> vpic = Vec<D>::Zero();
-    Mat<D> L = Mat<D>::Zero();
-    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
-      vpic += S * gv[i];
-      L += gr[i] * G.transpose();
-    });
-    P.L[p] = L;
-    P.x[p] += dt * vpic;
+  // strip by strip (a gather: no parity phases), so that the end-of-step check knows each
+  // particle's strip
+  std::uint32_t left = kNone;
+  bool rebin = false;
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : left) reduction(|| : rebin)
+  for (long s = 0; s < bins_.strips; ++s) {
+    for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+      const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+      const long off = P.field[p] * nn;
+      const Vec<D>* gv = g.vel.data() + off;
+      const Vec<D>* gr = g.dvel.data() + off;
+      Vec<D> vpic = Vec<D>::Zero();
+      Mat<D> L = Mat<D>::Zero();
+      for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+        vpic += S * gv[i];
+        L += gr[i] * G.transpose();
+      });
+      P.L[p] = L;
+      P.x[p] += dt * vpic;
+      check_position<D>(g, bins_, inv_h, p, P.x[p], s, left, rebin);
+    }
   }
+  left_grid_ = left;
+  rebin_ = rebin;
 }
 
 template <int D>
@@ -557,33 +596,18 @@ void Solver<D>::update_stress() {
 
 template <int D>
 void Solver<D>::advance_bodies() {
-  const auto& g = sc_.grid;
   for (auto& b : sc_.bodies)
     if (b.moving()) b.move_to(t_);
-  // Every particle must keep its whole stencil inside the grid; a particle that crossed into
-  // another strip needs a re-bin (rare: strains are small). One parallel pass over the strips
-  // checks both (every particle is in exactly one strip).
+  // The positions were checked where they were updated (G2P, or the MUSL remap).
   const auto& P = sc_.particles;
-  std::uint32_t bad = kNone;
-  bool rebin = false;
-  const double inv_h = 1.0 / g.h;
-#pragma omp parallel for schedule(dynamic, 1) reduction(min : bad) reduction(|| : rebin)
-  for (long strip = 0; strip < bins_.strips; ++strip) {
-    const auto& members = bins_.members[static_cast<std::size_t>(strip)];
-    for (std::size_t k = 0; k < members.size(); ++k) {
-      const std::uint32_t p = members[k];
-      if (k + kPrefetchAhead < members.size()) prefetch(&P.x[members[k + kPrefetchAhead]]);
-      for (int d = 0; d < D; ++d) {
-        const double s = (P.x[p][d] - g.origin[d]) * inv_h;
-        if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) bad = std::min(bad, p);
-        else if (d == 0 && bins_.strip_of_cell(static_cast<long>(std::floor(s))) != strip) rebin = true;
-      }
-    }
-  }
+  const std::uint32_t bad = left_grid_;
   if (bad != kNone)
     throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m",
                                        steps_, t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
-  if (rebin) rebuild_bins();
+  if (rebin_) {
+    rebuild_bins();
+    rebin_ = false;
+  }
 }
 
 template <int D>

@@ -3,6 +3,8 @@
 //   P2G -> contact -> grid update -> contact -> G2P -> stress update
 // with the integrator (USF / USL / MUSL) deciding where the velocity gradient is taken.
 // Each stage is a member function that can be tested alone.
+#include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "contact/contact_tally.hpp"
@@ -72,6 +74,9 @@ class Solver {
   double mass_eps_ = 0;
   double half_width_ = 0;  // particle half-width in cells (uGIMP)
   bool track_gradients_ = false;  // volume gradients for contact normals (several fields)
+  // end-of-step check, filled where the positions are updated (G2P or the MUSL remap)
+  std::uint32_t left_grid_ = std::numeric_limits<std::uint32_t>::max();  // lowest particle outside
+  bool rebin_ = false;  // a particle changed strip
   std::vector<std::vector<std::pair<long, double>>> static_presence_;
   ContactTally<D> contact_tally_;
 };
