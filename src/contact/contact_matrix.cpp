@@ -72,6 +72,13 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
   else t.fail("normals", fmt::format("unknown normal option '{}' (dominant, average, own)", normal));
   cm.position_cutoff = t.number("position_check", 0.0);
   if (!(cm.position_cutoff >= 0.0)) t.fail("position_check", "must be >= 0 cells (0 switches the check off)");
+  // Two touching bodies put their mass centres at a node about 2/3 of a cell apart (linear hat,
+  // dense particles: +-h/3); below that, contact starts only once the bodies overlap.
+  if (cm.position_cutoff > 0.0 && cm.position_cutoff < 2.0 / 3.0)
+    fmt::print(stderr,
+               "pbxmpm: warning: contact.position_check = {:g} cells is below the ~0.67 cell at which touching "
+               "bodies' mass centres sit: fields will overlap before they feel contact (docs/deck.md)\n",
+               cm.position_cutoff);
 
   std::map<std::string, int> mat_index;
   for (std::size_t m = 0; m < material_names.size(); ++m) mat_index[material_names[m]] = static_cast<int>(m);

@@ -103,6 +103,24 @@ bool finished(const fs::path& dir) {
   return ss.str().find("\"status\": \"finished\"") != std::string::npos;
 }
 
+// The first line of a run's deck names the base deck's path, which may move with the study.
+std::string deck_body(const std::string& text) {
+  const auto nl = text.find('\n');
+  return nl == std::string::npos ? std::string() : text.substr(nl + 1);
+}
+
+// First line where a finished run's deck and the one the study gives now differ ("" if equal).
+std::string first_difference(const std::string& was, const std::string& now) {
+  std::istringstream a(deck_body(was)), b(deck_body(now));
+  std::string la, lb;
+  for (int line = 2;; ++line) {
+    const bool ga = static_cast<bool>(std::getline(a, la)), gb = static_cast<bool>(std::getline(b, lb));
+    if (!ga && !gb) return "";
+    if (!ga || !gb || la != lb)
+      return fmt::format("line {}: was '{}', now '{}'", line, ga ? la : "<end>", gb ? lb : "<end>");
+  }
+}
+
 }  // namespace
 
 StudySpec read_study(const std::string& file) {
@@ -235,6 +253,19 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const fs::path dir = out / "runs" / r.id;
     ++done;
     if (finished(dir)) {
+      // A finished run is reused only if the study still gives it the same deck: a changed base
+      // deck or override must not be mixed silently with results made from the old one.
+      std::stringstream was;
+      was << std::ifstream(dir / "deck.toml").rdbuf();
+      const std::string diff = first_difference(was.str(), run_deck_text(s, r));
+      if (!diff.empty()) {
+        ++failed;
+        std::fprintf(stderr,
+                     "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
+                     "delete %s to run it again, or use another --out\n",
+                     r.id.c_str(), diff.c_str(), dir.c_str());
+        continue;
+      }
       // re-analysed (cheap) so that a changed [analysis] table applies to finished runs as well
       std::fprintf(stderr, "pbxmpm study: [%d/%d] %s already finished, skipped (re-analysed)\n", done, mine,
                    r.id.c_str());

@@ -55,6 +55,20 @@ TEST(Study, MpiTwoRanksEqualsSequentialAndResumes) {
   const auto stamp = fs::last_write_time(dir / "seq" / "runs" / s.runs[0].id / "history.csv");
   EXPECT_EQ(run_study(s, o), 0);
   EXPECT_EQ(fs::last_write_time(dir / "seq" / "runs" / s.runs[0].id / "history.csv"), stamp);
+  // a finished run made from another deck is not reused: the study fails and leaves it alone
+  {
+    const fs::path deck = dir / "seq" / "runs" / s.runs[0].id / "deck.toml";
+    const std::string good = slurp(deck);
+    std::string changed = good;
+    const auto pos = changed.find("end_strain");
+    ASSERT_NE(pos, std::string::npos);
+    changed.insert(pos, "# edited\n");
+    std::ofstream(deck) << changed;
+    EXPECT_EQ(run_study(s, o), 1);
+    EXPECT_EQ(fs::last_write_time(dir / "seq" / "runs" / s.runs[0].id / "history.csv"), stamp);
+    std::ofstream(deck) << good;
+    EXPECT_EQ(run_study(s, o), 0);
+  }
 
   if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
   const std::string cmd = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -n 2 " + std::string(PBXMPM_BINARY) +
