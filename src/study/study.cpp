@@ -243,6 +243,27 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     f << "  ]\n}\n";
   }
   mpi.barrier();
+  // Every run's deck is built once (specimen included, about a second at 5 um) before the first
+  // run starts: a mistyped override in the last run must fail now, not hours into the study.
+  int invalid = 0;
+  for (std::size_t i = 0; i < s.runs.size(); ++i) {
+    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) != mpi.rank) continue;
+    const auto& r = s.runs[i];
+    if (finished(out / "runs" / r.id)) continue;
+    try {
+      Deck deck = Deck::from_string(run_deck_text(s, r), "deck.toml");
+      Scene<2> scene = build_scene<2>(deck);
+      deck.check_unused();
+    } catch (const std::exception& e) {
+      ++invalid;
+      std::fprintf(stderr, "pbxmpm study: run %s: %s\n", r.id.c_str(), e.what());
+    }
+  }
+  invalid = mpi.sum(invalid);
+  if (invalid > 0) {
+    if (mpi.rank == 0) std::fprintf(stderr, "pbxmpm study: %d run deck(s) invalid; no run started\n", invalid);
+    return invalid;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   int failed = 0, done = 0, mine = 0;
   for (std::size_t i = 0; i < s.runs.size(); ++i)

@@ -21,7 +21,7 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-fs::path make_study(const std::string& extra = "") {
+fs::path make_study(const std::string& extra = "", const std::string& values = "[10, 20]") {
   const fs::path dir = fs::temp_directory_path() / ("pbxmpm_study_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::string base = slurp(fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml");
@@ -36,7 +36,7 @@ fs::path make_study(const std::string& extra = "") {
   std::ofstream(dir / "base.toml") << base;
   std::ofstream(dir / "study.toml") << "[study]\nname = \"mpi-check\"\nbase = \"base.toml\"\n" << extra
                                     << "[[study.group]]\nname = \"scaling\"\nkey = \"solver.mass_scaling\"\n"
-                                       "values = [10, 20]\n";
+                                       "values = " << values << "\n";
   return dir;
 }
 }  // namespace
@@ -127,5 +127,19 @@ TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("analysis.colour"), std::string::npos) << e.what();
   }
+  fs::remove_all(dir);
+}
+
+// An invalid run deck anywhere in the study stops it before the first run starts.
+TEST(Study, InvalidRunDeckStopsTheStudyBeforeAnyRun) {
+  const fs::path dir = make_study("", "[10, -20]");
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  const StudySpec s = read_study((dir / "study.toml").string());
+  ASSERT_EQ(s.runs.size(), 2u);
+  EXPECT_EQ(run_study(s, o), 1);
+  for (const auto& r : s.runs) EXPECT_FALSE(fs::exists(dir / "out" / "runs" / r.id / "history.csv")) << r.id;
   fs::remove_all(dir);
 }
