@@ -1,29 +1,57 @@
 #pragma once
-// Race-free, deterministic parallel scatter: particles are binned into vertical strips of
-// `width` >= 3 cells. A particle's 3x3 stencil reaches one node column beyond its strip on
-// each side, so strips of the same parity never touch the same node: even strips scatter in
-// parallel, then odd strips. The sum order at every node is then fixed by the strip layout alone,
-// so results are bit-identical for any thread count. Strip width does not depend on threads.
+// Race-free, deterministic parallel scatter over vertical strips of `width` >= 3 cells. A
+// particle's 3x3 stencil reaches one node column beyond its strip on each side, so strips of the
+// same parity never touch the same node: even strips scatter in parallel, then odd strips.
+//
+// Particles are stored strip by strip (order_by_strip, solver/scene.hpp), so a strip's particles
+// are the storage range [begin[s], begin[s+1]): its home strip, fixed for the run. A particle that
+// has moved out of its home strip (a stray; rare: strains are small) would break the parity
+// argument, so it is left out of the two phases and scattered afterwards, serially, in index
+// order. The sum order at every node is then fixed by storage order and positions alone, so
+// results are bit-identical for any thread count. Strip width does not depend on threads.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
+
+#include "grid/grid.hpp"
 
 namespace pbx {
 
 struct StripBins {
   long width = 3;   // cells per strip
   long strips = 0;
-  std::vector<std::vector<std::uint32_t>> members;
+  std::vector<long> begin;           // home range of strip s: [begin[s], begin[s + 1])
+  std::vector<std::uint8_t> stray;   // per particle: outside its home strip
+  std::vector<std::uint32_t> strays; // the strays, ascending
 
   void setup(long cells_x) {
     width = std::max(3L, cells_x / 32);
     strips = (cells_x + width - 1) / width;
-    members.assign(static_cast<std::size_t>(strips), {});
   }
   long strip_of_cell(long cell_x) const { return std::min(strips - 1, std::max(0L, cell_x / width)); }
   // s: x-coordinate in cell units from the grid origin
   long strip_of(double s) const { return strip_of_cell(static_cast<long>(std::floor(s))); }
+  // Where a particle of home strip `home`, now at x, is: kHome, kStray (inside the grid, in another
+  // strip) or kOutside (its stencil would leave the grid: the run must stop before it scatters).
+  enum Place { kHome = 0, kStray = 1, kOutside = 2 };
+  template <int D>
+  Place locate(const Grid<D>& g, double inv_h, const Vec<D>& x, long home) const {
+    Place r = kHome;
+    for (int d = 0; d < D; ++d) {
+      const double s = (x[d] - g.origin[d]) * inv_h;
+      if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) return kOutside;
+      if (d == 0 && strip_of(s) != home) r = kStray;
+    }
+    return r;
+  }
+  // Rebuilds `strays` from the flags (after the positions changed); `count` strays are flagged.
+  void collect_strays(long count) {
+    strays.clear();
+    if (count == 0) return;
+    for (std::size_t p = 0; p < stray.size(); ++p)
+      if (stray[p]) strays.push_back(static_cast<std::uint32_t>(p));
+  }
 };
 
 }  // namespace pbx

@@ -358,25 +358,6 @@ Scene<D> build_scene(const Deck& deck) {
   for (auto& b : sc.bodies)
     for (auto& x : b.x0) check_inside(x, "a particle of rigid body '" + b.name + "'");
 
-  // ---- storage order: strip by strip (the solver's scatter strips, solver/bins.hpp), creation
-  // order within a strip. The solver's scatter and gather visit particles strip by strip; stored
-  // in that order, each strip is one linear sweep of every particle array (the hardware
-  // prefetchers follow it), where creation order (row-major over the whole specimen) made every
-  // strip a series of short runs. Within a strip the order is unchanged, so the sum order at every
-  // node, and with it every result, is the same as with creation order.
-  {
-    StripBins strips;
-    strips.setup(sc.grid.n[0] - 1);
-    const double inv_h = 1.0 / sc.grid.h;
-    const std::size_t np = sc.particles.size();
-    std::vector<long> strip(np);
-    for (std::size_t p = 0; p < np; ++p) strip[p] = strips.strip_of((sc.particles.x[p][0] - sc.grid.origin[0]) * inv_h);
-    std::vector<std::uint32_t> order(np);
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
-    sc.particles.reorder(order);
-  }
-
   // ---- material batches and history
   sc.material_state.resize(sc.materials.size());
   for (std::size_t p = 0; p < sc.particles.size(); ++p) {
@@ -390,6 +371,9 @@ Scene<D> build_scene(const Deck& deck) {
     st.history.assign(st.index.size() * static_cast<std::size_t>(hs), 0.0);
     for (std::size_t k = 0; k < st.index.size(); ++k) sc.materials[m]->init_history(st.history.data() + k * hs);
   }
+
+  // ---- storage order: strip by strip (the solver's scatter strips)
+  order_by_strip(sc);
 
   // ---- contact between deformable fields (issue 4): laws per pair of materials
   {
@@ -405,6 +389,44 @@ Scene<D> build_scene(const Deck& deck) {
   return sc;
 }
 
+// The solver's scatter and gather visit particles strip by strip; stored in that order, each
+// strip is one linear sweep of every particle array (the hardware prefetchers follow it), where
+// creation order (row-major over the whole specimen) made every strip a series of short runs.
+// Within a strip the order is unchanged, so the sum order at every node, and with it every
+// result, is the same as with creation order.
+template <int D>
+void order_by_strip(Scene<D>& sc) {
+  auto& P = sc.particles;
+  StripBins strips;
+  strips.setup(sc.grid.n[0] - 1);
+  const double inv_h = 1.0 / sc.grid.h;
+  const std::size_t np = P.size();
+  std::vector<long> strip(np);
+  for (std::size_t p = 0; p < np; ++p) strip[p] = strips.strip_of((P.x[p][0] - sc.grid.origin[0]) * inv_h);
+  if (std::is_sorted(strip.begin(), strip.end())) return;
+  std::vector<std::uint32_t> order(np);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
+  P.reorder(order);
+  // batches in the new storage order; a particle's history row moves with it (slot = old row)
+  for (std::size_t m = 0; m < sc.material_state.size(); ++m) {
+    auto& st = sc.material_state[m];
+    const std::size_t hs = static_cast<std::size_t>(sc.materials[m]->history_size());
+    std::vector<double> history(st.history.size());
+    st.index.clear();
+    for (std::size_t p = 0; p < np; ++p) {
+      if (P.material[p] != static_cast<int>(m)) continue;
+      const std::size_t k = st.index.size();
+      std::copy_n(st.history.begin() + static_cast<long>(P.slot[p] * hs), hs, history.begin() + static_cast<long>(k * hs));
+      P.slot[p] = static_cast<std::uint32_t>(k);
+      st.index.push_back(static_cast<std::uint32_t>(p));
+    }
+    st.history = std::move(history);
+  }
+}
+
+template void order_by_strip<2>(Scene<2>&);
+template void order_by_strip<3>(Scene<3>&);
 template Scene<2> build_scene<2>(const Deck&);
 template Scene<3> build_scene<3>(const Deck&);
 

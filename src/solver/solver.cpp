@@ -12,62 +12,11 @@
 
 namespace pbx {
 
-namespace {
-
-// In-plane (D x D) block of a stored 3x3 Cauchy stress.
-template <int D>
-inline Mat<D> in_plane(const Sym3& s) {
-  if constexpr (D == 2) {
-    Mat<2> m;
-    m << s.xx, s.xy, s.xy, s.yy;
-    return m;
-  } else {
-    return s.mat();
-  }
-}
-
-// Calls f with the run's kernel as a compile-time constant: one switch per stage, not per particle.
-template <class F>
-void with_kernel(Kernel k, F&& f) {
-  switch (k) {
-    case Kernel::linear: f(std::integral_constant<Kernel, Kernel::linear>{}); break;
-    case Kernel::ugimp: f(std::integral_constant<Kernel, Kernel::ugimp>{}); break;
-    case Kernel::bspline2: f(std::integral_constant<Kernel, Kernel::bspline2>{}); break;
-  }
-}
-
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
-// A strip's members are runs of a few consecutive particles (one row of cells across the strip),
-// so the hardware prefetchers miss the jump from one run to the next: the scatter and gather
-// loops ask for the data of the particle kPrefetchAhead members ahead.
-constexpr std::size_t kPrefetchAhead = 8;
-template <class... T>
-inline void prefetch(const T*... p) {
-  (__builtin_prefetch(p), ...);
-}
-
-// The end-of-step check of a particle just moved to x, made where its position is updated (no
-// separate pass over the particles): every particle must keep its whole stencil inside the grid
-// (`left` collects the lowest offending index), and a particle that crossed out of its strip
-// needs a re-bin (`rebin`; rare: strains are small).
-template <int D>
-inline void check_position(const Grid<D>& g, const StripBins& bins, double inv_h, std::uint32_t p, const Vec<D>& x,
-                           long strip, std::uint32_t& left, bool& rebin) {
-  for (int d = 0; d < D; ++d) {
-    const double s = (x[d] - g.origin[d]) * inv_h;
-    if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) left = std::min(left, p);
-    else if (d == 0 && bins.strip_of(s) != strip) rebin = true;
-  }
-}
-
-}  // namespace
-
 template <int D>
 Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
+  order_by_strip(sc_);  // a no-op for scenes from build_scene (already ordered)
   const auto& P = sc_.particles;
-  bins_.setup(sc_.grid.n[0] - 1);
-  rebuild_bins();
+  setup_strips();
   double msum = 0;
   for (double m : P.mass) msum += m;
   mass_eps_ = 1e-20 * sc_.settings.mass_scaling * msum / static_cast<double>(std::max<std::size_t>(1, P.size()));
@@ -90,18 +39,53 @@ void Solver<D>::restore(const State& s) {
   steps_ = s.steps;
   for (auto& b : sc_.bodies) b.move_to(t_);
   left_grid_ = kNone;
-  rebin_ = false;
-  rebuild_bins();
+  grid_primed_ = false;  // the restored particles make the next P2G afresh
+  locate_particles();
 }
 
+// Home strips are the storage ranges of the (strip-ordered) particles at construction; they stay
+// fixed for the run, and so do the batch positions where each strip's particles of each material
+// begin (the fused pass hands a material a contiguous part of its batch).
 template <int D>
-void Solver<D>::rebuild_bins() {
+void Solver<D>::setup_strips() {
+  const auto& P = sc_.particles;
+  const long np = static_cast<long>(P.size());
+  const double inv_h = 1.0 / sc_.grid.h;
+  bins_.setup(sc_.grid.n[0] - 1);
+  bins_.begin.assign(static_cast<std::size_t>(bins_.strips + 1), np);
+  for (long p = np - 1; p >= 0; --p)
+    bins_.begin[static_cast<std::size_t>(bins_.strip_of((P.x[p][0] - sc_.grid.origin[0]) * inv_h))] = p;
+  for (long s = bins_.strips - 1; s >= 0; --s)
+    bins_.begin[static_cast<std::size_t>(s)] = std::min(bins_.begin[static_cast<std::size_t>(s)], bins_.begin[static_cast<std::size_t>(s + 1)]);
+  bins_.stray.assign(P.size(), 0);
+  bins_.strays.clear();
+  batch_begin_.assign(sc_.materials.size(), {});
+  for (std::size_t m = 0; m < sc_.materials.size(); ++m) {
+    const auto& index = sc_.material_state[m].index;
+    for (long s = 0; s <= bins_.strips; ++s)
+      batch_begin_[m].push_back(std::lower_bound(index.begin(), index.end(), static_cast<std::uint32_t>(bins_.begin[static_cast<std::size_t>(s)])) - index.begin());
+  }
+  chunk_begin_.assign(1, 0);
+  for (long s = 0; s < bins_.strips; ++s) {
+    const long n = bins_.begin[static_cast<std::size_t>(s + 1)] - bins_.begin[static_cast<std::size_t>(s)];
+    chunk_begin_.push_back(chunk_begin_.back() + (n + kPassChunk - 1) / kPassChunk);
+  }
+  locate_particles();
+}
+
+// Stray flags after positions were set from outside the step (construction, restart).
+template <int D>
+void Solver<D>::locate_particles() {
   const auto& P = sc_.particles;
   const double inv_h = 1.0 / sc_.grid.h;
-  for (auto& m : bins_.members) m.clear();
-  for (std::size_t p = 0; p < P.size(); ++p) {
-    bins_.members[static_cast<std::size_t>(bins_.strip_of((P.x[p][0] - sc_.grid.origin[0]) * inv_h))].push_back(static_cast<std::uint32_t>(p));
-  }
+  long count = 0;
+  for (long s = 0; s < bins_.strips; ++s)
+    for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p) {
+      const auto place = bins_.locate<D>(sc_.grid, inv_h, P.x[p], s);
+      bins_.stray[static_cast<std::size_t>(p)] = place == StripBins::kStray;
+      count += place == StripBins::kStray;
+    }
+  bins_.collect_strays(count);
 }
 
 template <int D>
@@ -114,11 +98,12 @@ double Solver<D>::stable_time_step() const {
 template <int D>
 void Solver<D>::step() {
   dt_ = stable_time_step();
-  reset_grid();
   rigid_p2g();
   switch (sc_.settings.integrator) {
     case Integrator::usf:
+      reset_grid();
       p2g(false);
+      keep_interpolated_momentum();
       contact(true);
       velocity_gradient();
       update_stress();
@@ -129,16 +114,23 @@ void Solver<D>::step() {
       g2p();
       break;
     case Integrator::usl:
-      p2g(true);
+      if (!grid_primed_) {  // first step (or after a restart); later, the last particle pass did it
+        reset_grid();
+        p2g(true);
+      }
+      keep_interpolated_momentum();
       contact(true);
       grid_update();
       contact(true);
       finalize_grid_velocities();
-      g2p();  // also takes L from the updated nodal velocities
-      update_stress();
+      reset_grid();     // the nodal sums of the next step start here (G2P reads only vel, dvel)
+      g2p_update_p2g(); // G2P -> stress update -> next step's P2G, chunk by chunk
+      grid_primed_ = true;
       break;
     case Integrator::musl:
+      reset_grid();
       p2g(true);
+      keep_interpolated_momentum();
       contact(true);
       grid_update();
       contact(true);
@@ -155,119 +147,55 @@ void Solver<D>::step() {
 }
 
 // ------------------------------------------------------------------------------------- stages
+// Zeroes the nodal sums of the deformable fields (the rigid presence is rigid_p2g's own).
 template <int D>
 void Solver<D>::reset_grid() {
   auto& g = sc_.grid;
-  // in parallel: a serial reset is the largest serial part of a step on two threads
-  const long n = static_cast<long>(g.mass.size()), nr = static_cast<long>(g.presence.size());
+  const long n = static_cast<long>(g.mass.size());
   const bool gradients = track_gradients_;
-#pragma omp parallel
-  {
-#pragma omp for schedule(static) nowait
-    for (long k = 0; k < n; ++k) {
-      g.mass[k] = 0.0;
-      g.mom[k].setZero();
-      g.moff[k].setZero();
-      g.force[k].setZero();
-      if (gradients) g.vgrad[k].setZero();
-    }
-#pragma omp for schedule(static)
-    for (long k = 0; k < nr; ++k) g.presence[k] = 0.0;
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < n; ++k) {
+    g.mass[k] = 0.0;
+    g.mom[k].setZero();
+    g.moff[k].setZero();
+    g.force[k].setZero();
+    if (gradients) g.vgrad[k].setZero();
   }
 }
 
+// The momentum as interpolated, before contact and forces change it: the base of the FLIP
+// increment.
+template <int D>
+void Solver<D>::keep_interpolated_momentum() {
+  auto& g = sc_.grid;
+  const long n = static_cast<long>(g.mom.size());
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < n; ++k) g.mom0[k] = g.mom[k];
+}
+
+template <int D>
+Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
+  const Vec<D> grav = sc_.settings.gravity;
+  return Scatter<D>{sc_.grid, sc_.particles, sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0,
+                    mass_momentum, forces, !sc_.bodies.empty(), track_gradients_};
+}
+
+// Even strips in parallel, then odd strips, then the strays serially (solver/bins.hpp).
 template <int D>
 template <Kernel K>
 void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
-  auto& g = sc_.grid;
+  const auto& g = sc_.grid;
   const auto& P = sc_.particles;
-  const double inv_h = 1.0 / g.h, fs = sc_.settings.mass_scaling, a = half_width_;
-  const long nn = g.nodes();
-  const Vec<D> grav = sc_.settings.gravity;
-  const bool gravity = grav.squaredNorm() > 0;
-  const bool track_offsets = !sc_.bodies.empty();
+  const double inv_h = 1.0 / g.h, a = half_width_;
+  const Scatter<D> scatter_one = scatter(mass_momentum, forces);
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1)
-    for (long s = phase; s < bins_.strips; s += 2) {
-      const auto& members = bins_.members[static_cast<std::size_t>(s)];
-      for (std::size_t k = 0; k < members.size(); ++k) {
-        const std::uint32_t p = members[k];
-        if (k + kPrefetchAhead < members.size()) {
-          const std::uint32_t q = members[k + kPrefetchAhead];
-          prefetch(&P.x[q], &P.v[q], &P.stress[q], &P.mass[q], &P.volume[q], &P.field[q]);
-        }
-        const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
-        const long off = P.field[p] * nn;
-        const double m = P.mass[p] * fs;
-        const Vec<D> mv = m * P.v[p];
-        const Mat<D> sv = -P.volume[p] * in_plane<D>(P.stress[p]);
-        const Vec<D> fext = P.mass[p] * grav;  // body force acts on the physical mass
-        double* gm = g.mass.data() + off;
-        Vec<D>* gp = g.mom.data() + off;
-        Vec<D>* gf = g.force.data() + off;
-        Vec<D>* go = g.moff.data() + off;
-        Vec<D>* gg = g.vgrad.data() + off;
-        const double vol = P.volume[p];
-        const Vec<D> xs = P.x[p] - g.origin;
-        if constexpr (D == 2) {
-          // Tensor-product form of the 3 x 3 stencil, S = wx_i wy_j, G = (gx_i wy_j, wx_i gy_j):
-          // per node row j the particle's contributions are scaled by the row factors once, then
-          // by the x factors. The run-constant switches are tested once per row, so the node loops
-          // are straight-line code; every nodal sum keeps its order.
-          const auto& wx = st.w[0];
-          const auto& gx = st.g[0];
-          const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
-          for (int j = 0; j < 3; ++j) {
-            const long r = b0 + j * g.stride[1];
-            const double wy = st.w[1][j], gy = st.g[1][j];
-            if (mass_momentum) {
-              const double mj = wy * m;
-              const Vec<D> pj = wy * mv;
-              for (int i = 0; i < 3; ++i) {
-                gm[r + i] += wx[i] * mj;
-                gp[r + i] += wx[i] * pj;
-              }
-              if (track_offsets) {
-                const Vec<D> oj = mj * xs;
-                for (int i = 0; i < 3; ++i) go[r + i] += wx[i] * oj;
-              }
-              if (track_gradients_)
-                for (int i = 0; i < 3; ++i) gg[r + i] += vol * Vec<D>(gx[i] * wy, wx[i] * gy);
-            }
-            if (forces) {
-              const Vec<D> fa = wy * sv.col(0), fb = gy * sv.col(1);
-              const Vec<D> fj = wy * fext;
-              for (int i = 0; i < 3; ++i) {
-                gf[r + i] += gx[i] * fa + wx[i] * fb;
-                if (gravity) gf[r + i] += wx[i] * fj;
-              }
-            }
-          }
-        } else {
-          // one node loop per quantity, the run-constant switches tested once per particle
-          if (mass_momentum) {
-            for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
-              gm[i] += S * m;
-              gp[i] += S * mv;
-            });
-            if (track_offsets) for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { go[i] += (S * m) * xs; });
-            if (track_gradients_) for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { gg[i] += vol * G; });
-          }
-          if (forces) {
-            for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
-              gf[i] += sv * G;
-              if (gravity) gf[i] += S * fext;
-            });
-          }
-        }
-      }
-    }
+    for (long s = phase; s < bins_.strips; s += 2)
+      for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
+        if (!bins_.stray[static_cast<std::size_t>(p)])
+          scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
   }
-  if (mass_momentum) {
-    const long n = static_cast<long>(sc_.deformable_fields) * nn;
-#pragma omp parallel for schedule(static)
-    for (long k = 0; k < n; ++k) g.mom0[k] = g.mom[k];
-  }
+  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
 }
 
 template <int D>
@@ -286,6 +214,7 @@ void Solver<D>::rigid_p2g_impl() {
   auto& g = sc_.grid;
   const double inv_h = 1.0 / g.h, a = half_width_;
   const long nn = g.nodes();
+  std::fill(g.presence.begin(), g.presence.end(), 0.0);
   for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
     auto& body = sc_.bodies[b];
     double* gm = g.presence.data() + (body.field - g.deformable) * nn;
@@ -359,7 +288,8 @@ void Solver<D>::finalize_grid_velocities() {
 }
 
 // G2P: particle velocity by the FLIP/PIC blend, and per integrator:
-//   USF: position update;  USL: position update and L from the updated nodal velocities;
+//   USF: position update;  USL: position update and L from the updated nodal velocities (the
+//   USL step uses the fused pass g2p_update_p2g instead);
 //   MUSL: scatter of the updated particle momentum (positions move after the remap).
 template <int D>
 template <Kernel K>
@@ -367,76 +297,42 @@ void Solver<D>::g2p_impl() {
   auto& g = sc_.grid;
   auto& P = sc_.particles;
   const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_, alpha = sc_.settings.flip;
-  const double fs = sc_.settings.mass_scaling;
   const long nn = g.nodes();
   const Integrator integ = sc_.settings.integrator;
-  const bool musl = integ == Integrator::musl;
+  const bool musl = integ == Integrator::musl, usl = integ == Integrator::usl;
   if (musl) {
     const long n = static_cast<long>(sc_.deformable_fields) * nn;
 #pragma omp parallel for schedule(static)
     for (long k = 0; k < n; ++k) g.mom[k].setZero();
   }
+  // MUSL maps the new momenta back: momentum only, from the start-of-step positions
+  const Scatter<D> remap = scatter(true, false);
+  auto scatter_momentum = [&](std::uint32_t p, const Stencil<D>& st) {
+    const Vec<D> mv = (P.mass[p] * remap.fs) * P.v[p];
+    Vec<D>* gp = g.mom.data() + P.field[p] * nn;
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { gp[i] += S * mv; });
+  };
   double vmax2 = 0;
   std::uint32_t bad = kNone, left = kNone;
-  bool rebin = false;
+  long strays = 0;
   for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad, left) reduction(|| : rebin)
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad, left) reduction(+ : strays)
     for (long s = phase; s < bins_.strips; s += 2) {
-      const auto& members = bins_.members[static_cast<std::size_t>(s)];
-      for (std::size_t k = 0; k < members.size(); ++k) {
-        const std::uint32_t p = members[k];
-        if (k + kPrefetchAhead < members.size()) {
-          const std::uint32_t q = members[k + kPrefetchAhead];
-          prefetch(&P.x[q], &P.v[q], &P.L[q], &P.field[q]);
-        }
+      for (long q = bins_.begin[static_cast<std::size_t>(s)]; q < bins_.begin[static_cast<std::size_t>(s + 1)]; ++q) {
+        const auto p = static_cast<std::uint32_t>(q);
         const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
-        const long off = P.field[p] * nn;
-        const Vec<D>* gv = g.vel.data() + off;
-        const Vec<D>* gdv = g.dvel.data() + off;
-        Vec<D> vpic = Vec<D>::Zero(), dv = Vec<D>::Zero();
-        Mat<D> L = Mat<D>::Zero();
-        if constexpr (D == 2) {
-          // Tensor-product form: per node row j the x-sums a_j = sum_i wx_i v_ij,
-          // b_j = sum_i gx_i v_ij and c_j = sum_i wx_i dv_ij; then v = sum_j wy_j a_j,
-          // dv = sum_j wy_j c_j and L = sum v (x) G = [sum_j wy_j b_j | sum_j gy_j a_j].
-          const auto& wx = st.w[0];
-          const auto& gx = st.g[0];
-          const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
-          for (int j = 0; j < 3; ++j) {
-            const long r = b0 + j * g.stride[1];
-            const double wy = st.w[1][j];
-            const Vec<D> aj = wx[0] * gv[r] + wx[1] * gv[r + 1] + wx[2] * gv[r + 2];
-            const Vec<D> cj = wx[0] * gdv[r] + wx[1] * gdv[r + 1] + wx[2] * gdv[r + 2];
-            vpic += wy * aj;
-            dv += wy * cj;
-            if (integ == Integrator::usl) {
-              const Vec<D> bj = gx[0] * gv[r] + gx[1] * gv[r + 1] + gx[2] * gv[r + 2];
-              L.col(0) += wy * bj;
-              L.col(1) += st.g[1][j] * aj;
-            }
-          }
-        } else if (integ == Integrator::usl) {
-          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
-            vpic += S * gv[i];
-            dv += S * gdv[i];
-            L += gv[i] * G.transpose();
-          });
-        } else {
-          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
-            vpic += S * gv[i];
-            dv += S * gdv[i];
-          });
-        }
-        const Vec<D> vnew = alpha * (P.v[p] + dv) + (1.0 - alpha) * vpic;
+        const Gathered<D> r = gather<D>(g, P.field[p] * nn, st, usl);
+        const Vec<D> vnew = alpha * (P.v[p] + r.dv) + (1.0 - alpha) * r.vpic;
         P.v[p] = vnew;
         if (musl) {
-          const Vec<D> mv = (P.mass[p] * fs) * vnew;
-          Vec<D>* gp = g.mom.data() + off;
-          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { gp[i] += S * mv; });
+          if (!bins_.stray[p]) scatter_momentum(p, st);
         } else {
-          P.x[p] += dt * vpic;
-          if (integ == Integrator::usl) P.L[p] = L;
-          check_position<D>(g, bins_, inv_h, p, P.x[p], s, left, rebin);
+          P.x[p] += dt * r.vpic;
+          if (usl) P.L[p] = r.L;
+          const auto place = bins_.locate<D>(g, inv_h, P.x[p], s);
+          if (place == StripBins::kOutside) left = std::min(left, p);
+          bins_.stray[p] = place == StripBins::kStray;
+          strays += place == StripBins::kStray;
         }
         const double sp2 = vnew.squaredNorm();  // sqrt once, of the maximum (monotonic)
         if (!(sp2 < 1e300)) bad = std::min(bad, p);
@@ -444,11 +340,13 @@ void Solver<D>::g2p_impl() {
       }
     }
   }
-  vmax_ = std::sqrt(vmax2);
-  if (!musl) {
+  if (musl) {
+    for (const std::uint32_t p : bins_.strays) scatter_momentum(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+  } else {
     left_grid_ = left;
-    rebin_ = rebin;
+    bins_.collect_strays(strays);
   }
+  vmax_ = std::sqrt(vmax2);
   if (bad != kNone)
     throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
                                        steps_, bad, sc_.material_names[P.material[bad]]));
@@ -473,12 +371,13 @@ void Solver<D>::remap_gradient_impl() {
   for (long k = 0; k < nd; ++k)
     g.dvel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
   // strip by strip (a gather: no parity phases), so that the end-of-step check knows each
-  // particle's strip
+  // particle's home strip
   std::uint32_t left = kNone;
-  bool rebin = false;
-#pragma omp parallel for schedule(dynamic, 1) reduction(min : left) reduction(|| : rebin)
+  long strays = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : left) reduction(+ : strays)
   for (long s = 0; s < bins_.strips; ++s) {
-    for (const std::uint32_t p : bins_.members[static_cast<std::size_t>(s)]) {
+    for (long q = bins_.begin[static_cast<std::size_t>(s)]; q < bins_.begin[static_cast<std::size_t>(s + 1)]; ++q) {
+      const auto p = static_cast<std::uint32_t>(q);
       const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
       const long off = P.field[p] * nn;
       const Vec<D>* gv = g.vel.data() + off;
@@ -491,11 +390,14 @@ void Solver<D>::remap_gradient_impl() {
       });
       P.L[p] = L;
       P.x[p] += dt * vpic;
-      check_position<D>(g, bins_, inv_h, p, P.x[p], s, left, rebin);
+      const auto place = bins_.locate<D>(g, inv_h, P.x[p], s);
+      if (place == StripBins::kOutside) left = std::min(left, p);
+      bins_.stray[p] = place == StripBins::kStray;
+      strays += place == StripBins::kStray;
     }
   }
   left_grid_ = left;
-  rebin_ = rebin;
+  bins_.collect_strays(strays);
 }
 
 template <int D>
@@ -598,16 +500,12 @@ template <int D>
 void Solver<D>::advance_bodies() {
   for (auto& b : sc_.bodies)
     if (b.moving()) b.move_to(t_);
-  // The positions were checked where they were updated (G2P, or the MUSL remap).
+  // The positions were checked where they were updated (G2P, the fused pass or the MUSL remap).
   const auto& P = sc_.particles;
   const std::uint32_t bad = left_grid_;
   if (bad != kNone)
     throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m",
                                        steps_, t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
-  if (rebin_) {
-    rebuild_bins();
-    rebin_ = false;
-  }
 }
 
 template <int D>

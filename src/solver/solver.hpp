@@ -2,7 +2,9 @@
 // The explicit MPM time step. step() reads like the algorithm of the paper (Eq. 1-5):
 //   P2G -> contact -> grid update -> contact -> G2P -> stress update
 // with the integrator (USF / USL / MUSL) deciding where the velocity gradient is taken.
-// Each stage is a member function that can be tested alone.
+// Each stage is a member function that can be tested alone. The default USL step runs G2P, the
+// stress update and the next step's P2G as one fused particle pass (g2p_update_p2g, in
+// solver/particle_pass.cpp), which calls the same per-particle kernels as the separate stages.
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -10,6 +12,7 @@
 #include "contact/contact_tally.hpp"
 #include "solver/bins.hpp"
 #include "solver/scene.hpp"
+#include "solver/transfer.hpp"
 
 namespace pbx {
 
@@ -40,7 +43,7 @@ class Solver {
     long steps;
   };
   State state() const { return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_}; }
-  void restore(const State& s);  // also moves the rigid bodies and rebuilds the strip bins
+  void restore(const State& s);  // also moves the rigid bodies and re-locates the particles
 
   // Stages (public so tests can drive them one by one).
   double stable_time_step() const;
@@ -50,20 +53,31 @@ class Solver {
   void rigid_p2g();
   void contact(bool record);
   void grid_update();
+  void keep_interpolated_momentum();
   void finalize_grid_velocities();
   void g2p();
   void remap_velocity_gradient();
   void update_stress();
+  // USL: G2P, stress update and the next step's P2G, chunk by chunk of each strip's particles.
+  void g2p_update_p2g();
   void advance_bodies();
 
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
  private:
+  // particles per chunk of the fused pass: G2P, stress update and P2G of one chunk run while
+  // its particle data are still in the L1/L2 cache
+  static constexpr long kPassChunk = 256;
   template <Kernel K> void p2g_impl(bool mass_momentum, bool forces);
   template <Kernel K> void g2p_impl();
   template <Kernel K> void remap_gradient_impl();
   template <Kernel K> void velocity_gradient_impl();
   template <Kernel K> void rigid_p2g_impl();
+  template <Kernel K> void particle_pass_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
-  void rebuild_bins();
+  Scatter<D> scatter(bool mass_momentum, bool forces);
+  void setup_strips();
+  void locate_particles();
 
   Scene<D>& sc_;
   StripBins bins_;
@@ -74,9 +88,11 @@ class Solver {
   double mass_eps_ = 0;
   double half_width_ = 0;  // particle half-width in cells (uGIMP)
   bool track_gradients_ = false;  // volume gradients for contact normals (several fields)
-  // end-of-step check, filled where the positions are updated (G2P or the MUSL remap)
-  std::uint32_t left_grid_ = std::numeric_limits<std::uint32_t>::max();  // lowest particle outside
-  bool rebin_ = false;  // a particle changed strip
+  // end-of-step check, filled where the positions are updated (G2P, fused pass or MUSL remap)
+  std::uint32_t left_grid_ = kNone;  // lowest particle whose stencil left the grid
+  bool grid_primed_ = false;         // the last fused pass made this step's P2G
+  std::vector<std::vector<long>> batch_begin_;  // [material][strip]: first batch position
+  std::vector<long> chunk_begin_;               // [strip]: first fused-pass chunk (results order)
   std::vector<std::vector<std::pair<long, double>>> static_presence_;
   ContactTally<D> contact_tally_;
 };

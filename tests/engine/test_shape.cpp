@@ -78,3 +78,32 @@ TEST(Shape, UgimpStencilMatchesPiecewiseDefinition) {
     }
   }
 }
+
+// The two-lane 2-D uGIMP stencil (make_stencil<2, ugimp>) gives the same bits as kernel_1d on each
+// axis, including positions on and next to the piece boundaries and on node lines; the engine's
+// results must not depend on which of the two computed a stencil.
+TEST(Shape, TwoLaneUgimpStencilEqualsKernel1dBitForBit) {
+  const Vec<2> origin(-1.0e-4, 2.0e-5);
+  const double h = 5.0e-6, inv_h = 1.0 / h;
+  for (const double a : {0.5, 0.25, 1.0 / 6.0}) {
+    std::vector<double> cells;
+    for (double s = 1.0; s < 4.0; s += 0.00731) cells.push_back(s);
+    for (double c = 1.0; c <= 4.0; c += 1.0)
+      for (const double d : {0.0, a, -a, 0.5, -0.5, 1.0 - a, a - 1.0})
+        for (const double eps : {0.0, 1e-12, -1e-12}) cells.push_back(c + 0.5 + d + eps);
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      const Vec<2> x(origin[0] + cells[k] * h, origin[1] + cells[cells.size() - 1 - k] * h);
+      const Stencil<2> st = make_stencil<2, Kernel::ugimp>(x, origin, inv_h, a);
+      for (int d = 0; d < 2; ++d) {
+        int base;
+        std::array<double, 3> w, g;
+        kernel_1d<Kernel::ugimp>((x[d] - origin[d]) * inv_h, a, inv_h, base, w, g);
+        EXPECT_EQ(st.base[d], base) << "a=" << a << " x=" << x[d];
+        for (int n = 0; n < 3; ++n) {
+          EXPECT_EQ(st.w[d][n], w[n]) << "a=" << a << " x=" << x[d] << " node " << n;
+          EXPECT_EQ(st.g[d][n], g[n]) << "a=" << a << " x=" << x[d] << " node " << n;
+        }
+      }
+    }
+  }
+}

@@ -1,0 +1,148 @@
+// The fused particle pass of the USL step: G2P -> stress update -> P2G of the next step, run chunk
+// by chunk over each strip's particles (solver/bins.hpp). Each particle's data are read from
+// memory once per step instead of once per stage, and a step has two parallel particle loops
+// instead of five. The stages are the same as in the unfused step, in the same order for every
+// particle, calling the same kernels (solver/transfer.hpp, the material plug-ins):
+//   1. G2P at the start-of-step position: FLIP/PIC velocity, position, velocity gradient L;
+//      where the particle is now (home strip, stray, outside the grid);
+//   2. stress update: F, J and volume, then each material updates its part of the chunk, which is
+//      a contiguous part of its batch (particles are stored strip by strip, batches in storage
+//      order): one virtual call per material per chunk, never one per particle;
+//   3. P2G of the next step at the new position into the freshly reset nodal sums (G2P reads
+//      only the final velocities vel and dvel, P2G writes mass, momentum and force, so the two
+//      never touch the same arrays). Strays wait and scatter serially after the two phases.
+// The P2G sums therefore arrive at every node in the order of the stand-alone P2G stage (the one
+// a restart makes), and 1 or N threads give the same bits.
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "solver/solver.hpp"
+
+namespace pbx {
+
+template <int D>
+void Solver<D>::g2p_update_p2g() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template particle_pass_impl<decltype(K)::value>(); });
+}
+
+template <int D>
+template <Kernel K>
+void Solver<D>::particle_pass_impl() {
+  auto& g = sc_.grid;
+  auto& P = sc_.particles;
+  const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_, alpha = sc_.settings.flip;
+  const long nn = g.nodes();
+  const std::size_t nm = sc_.materials.size();
+  const Scatter<D> scatter_one = scatter(true, true);
+  // per chunk, summed in chunk order after the pass (thread-count independent)
+  std::vector<MaterialStepResult> results(static_cast<std::size_t>(chunk_begin_.back()));
+  double vmax2 = 0;
+  std::uint32_t bad_v = kNone, bad_s = kNone, left = kNone;
+  long strays = 0;
+  for (int phase = 0; phase < 2; ++phase) {
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad_v, bad_s, left) reduction(+ : strays)
+    for (long s = phase; s < bins_.strips; s += 2) {
+      const long b = bins_.begin[static_cast<std::size_t>(s)], e = bins_.begin[static_cast<std::size_t>(s + 1)];
+      std::vector<long> cursor(nm), count(nm);  // batch position of the chunk's first particle, per material
+      for (std::size_t m = 0; m < nm; ++m) cursor[m] = batch_begin_[m][static_cast<std::size_t>(s)];
+      for (long c0 = b; c0 < e; c0 += kPassChunk) {
+        const long c1 = std::min(e, c0 + kPassChunk);
+        std::array<std::uint8_t, kPassChunk> place;
+
+        // 1. G2P
+        for (long q = c0; q < c1; ++q) {
+          const auto p = static_cast<std::uint32_t>(q);
+          const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+          const Gathered<D> r = gather<D>(g, P.field[p] * nn, st, true);
+          const Vec<D> vnew = alpha * (P.v[p] + r.dv) + (1.0 - alpha) * r.vpic;
+          P.v[p] = vnew;
+          P.x[p] += dt * r.vpic;
+          P.L[p] = r.L;
+          const auto where = bins_.locate<D>(g, inv_h, P.x[p], s);
+          place[static_cast<std::size_t>(q - c0)] = where;
+          if (where == StripBins::kOutside) left = std::min(left, p);
+          bins_.stray[p] = where == StripBins::kStray;
+          strays += where == StripBins::kStray;
+          const double sp2 = vnew.squaredNorm();  // sqrt once, of the maximum (monotonic)
+          if (!(sp2 < 1e300)) bad_v = std::min(bad_v, p);
+          vmax2 = std::max(vmax2, sp2);
+        }
+
+        // 2. stress update: kinematics, then the materials
+        std::uint32_t worst = kNone;
+        std::fill(count.begin(), count.end(), 0L);
+        for (long p = c0; p < c1; ++p) {
+          P.F[p] = (Mat<D>::Identity() + dt * P.L[p]) * P.F[p];
+          const double J = P.F[p].determinant();
+          if (!(J > 0)) worst = std::min(worst, static_cast<std::uint32_t>(p));
+          P.volume[p] = J * P.volume0[p];
+          ++count[static_cast<std::size_t>(P.material[p])];
+        }
+        if (worst == kNone) {
+          MaterialStepResult& res = results[static_cast<std::size_t>(chunk_begin_[static_cast<std::size_t>(s)] + (c0 - b) / kPassChunk)];
+          for (std::size_t m = 0; m < nm; ++m) {
+            if (count[m] == 0) continue;
+            auto& state = sc_.material_state[m];
+            MaterialBatch<D> batch;
+            batch.index = std::span<const std::uint32_t>(state.index.data() + cursor[m], static_cast<std::size_t>(count[m]));
+            batch.L = P.L.data();
+            batch.F = P.F.data();
+            batch.mass = P.mass.data();
+            batch.volume = P.volume.data();
+            batch.volume0 = P.volume0.data();
+            batch.stress = P.stress.data();
+            batch.history = state.history.data() + cursor[m] * sc_.materials[m]->history_size();
+            batch.dt = dt;
+            const MaterialStepResult r = sc_.materials[m]->update(batch);
+            res.stress_work += r.stress_work;
+            res.dissipated += r.dissipated;
+            res.max_wave_speed = std::max(res.max_wave_speed, r.max_wave_speed);
+          }
+          for (long p = c0; p < c1; ++p) {
+            const Sym3& st = P.stress[p];
+            if (!std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx)) worst = std::min(worst, static_cast<std::uint32_t>(p));
+          }
+        }
+        for (std::size_t m = 0; m < nm; ++m) cursor[m] += count[m];
+        bad_s = std::min(bad_s, worst);
+        if (worst != kNone) continue;  // the run stops after the pass
+
+        // 3. P2G of the next step
+        for (long q = c0; q < c1; ++q)
+          if (place[static_cast<std::size_t>(q - c0)] == StripBins::kHome)
+            scatter_one(static_cast<std::uint32_t>(q), make_stencil<D, K>(P.x[q], g.origin, inv_h, a));
+      }
+    }
+  }
+  bins_.collect_strays(strays);
+  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+  left_grid_ = left;
+  vmax_ = std::sqrt(vmax2);
+
+  if (bad_v != kNone)
+    throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
+                                       steps_, bad_v, sc_.material_names[P.material[bad_v]]));
+  if (bad_s != kNone) {
+    const std::uint32_t p = bad_s;
+    const double J = P.F[p].determinant();
+    throw InstabilityError(fmt::format(
+        "step {} (t = {:.6g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}", steps_, t_, p,
+        sc_.material_names[P.material[p]], P.x[p][0], P.x[p][1],
+        J > 0 ? "a non-finite stress" : fmt::format("J = {:.4g} <= 0 (inverted)", J)));
+  }
+  double cmax = 0;
+  for (const auto& r : results) {
+    internal_ += r.stress_work;
+    dissipated_ += r.dissipated;
+    cmax = std::max(cmax, r.max_wave_speed);
+  }
+  cmax_ = cmax;
+}
+
+template void Solver<2>::g2p_update_p2g();
+template void Solver<3>::g2p_update_p2g();
+
+}  // namespace pbx

@@ -1,0 +1,154 @@
+#pragma once
+// The particle <-> grid transfers of one particle, given its stencil: the P2G scatter (mass,
+// momentum, mass-centre offset, volume gradient, internal and body force) and the G2P gather
+// (PIC velocity, FLIP increment, velocity gradient). The transfer stages (Solver::p2g, g2p) and the
+// fused particle pass (Solver::g2p_update_p2g) call the same kernels, so a node receives the same
+// bits whichever path made it.
+#include <cstdint>
+
+#include "grid/grid.hpp"
+#include "grid/shape.hpp"
+#include "particles/particles.hpp"
+
+namespace pbx {
+
+// In-plane (D x D) block of a stored 3x3 Cauchy stress.
+template <int D>
+inline Mat<D> in_plane(const Sym3& s) {
+  if constexpr (D == 2) {
+    Mat<2> m;
+    m << s.xx, s.xy, s.xy, s.yy;
+    return m;
+  } else {
+    return s.mat();
+  }
+}
+
+template <int D>
+struct Scatter {
+  Grid<D>& g;
+  const Particles<D>& P;
+  double fs;            // mass scaling
+  Vec<D> grav;          // gravity, m/s^2
+  bool gravity;         // grav is not zero
+  bool mass_momentum;   // scatter mass, momentum (and offsets, gradients)
+  bool forces;          // scatter internal and body forces
+  bool offsets;         // mass-centre offsets (rigid-body contact gate, field position check)
+  bool gradients;       // volume gradients (contact normals between several fields)
+
+  void operator()(std::uint32_t p, const Stencil<D>& st) const {
+    const long off = P.field[p] * g.nodes();  // a product of two longs in 2-D
+    const double m = P.mass[p] * fs;
+    const Vec<D> mv = m * P.v[p];
+    const Mat<D> sv = -P.volume[p] * in_plane<D>(P.stress[p]);
+    const Vec<D> fext = P.mass[p] * grav;  // body force acts on the physical mass
+    double* gm = g.mass.data() + off;
+    Vec<D>* gp = g.mom.data() + off;
+    Vec<D>* gf = g.force.data() + off;
+    Vec<D>* go = g.moff.data() + off;
+    Vec<D>* gg = g.vgrad.data() + off;
+    const double vol = P.volume[p];
+    const Vec<D> xs = P.x[p] - g.origin;
+    if constexpr (D == 2) {
+      // Tensor-product form of the 3 x 3 stencil, S = wx_i wy_j, G = (gx_i wy_j, wx_i gy_j):
+      // per node row j the particle's contributions are scaled by the row factors once, then
+      // by the x factors. The run-constant switches are tested once per row, so the node loops
+      // are straight-line code; every nodal sum keeps its order.
+      const auto& wx = st.w[0];
+      const auto& gx = st.g[0];
+      const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
+      for (int j = 0; j < 3; ++j) {
+        const long r = b0 + j * g.stride[1];
+        const double wy = st.w[1][j], gy = st.g[1][j];
+        if (mass_momentum) {
+          const double mj = wy * m;
+          const Vec<D> pj = wy * mv;
+          for (int i = 0; i < 3; ++i) {
+            gm[r + i] += wx[i] * mj;
+            gp[r + i] += wx[i] * pj;
+          }
+          if (offsets) {
+            const Vec<D> oj = mj * xs;
+            for (int i = 0; i < 3; ++i) go[r + i] += wx[i] * oj;
+          }
+          if (gradients)
+            for (int i = 0; i < 3; ++i) gg[r + i] += vol * Vec<D>(gx[i] * wy, wx[i] * gy);
+        }
+        if (forces) {
+          const Vec<D> fa = wy * sv.col(0), fb = gy * sv.col(1);
+          const Vec<D> fj = wy * fext;
+          for (int i = 0; i < 3; ++i) {
+            gf[r + i] += gx[i] * fa + wx[i] * fb;
+            if (gravity) gf[r + i] += wx[i] * fj;
+          }
+        }
+      }
+    } else {
+      // one node loop per quantity, the run-constant switches tested once per particle
+      if (mass_momentum) {
+        for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+          gm[i] += S * m;
+          gp[i] += S * mv;
+        });
+        if (offsets) for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { go[i] += (S * m) * xs; });
+        if (gradients) for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { gg[i] += vol * G; });
+      }
+      if (forces) {
+        for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+          gf[i] += sv * G;
+          if (gravity) gf[i] += S * fext;
+        });
+      }
+    }
+  }
+};
+
+// What the gather gives: PIC velocity, FLIP increment and (when asked) the velocity gradient.
+template <int D>
+struct Gathered {
+  Vec<D> vpic = Vec<D>::Zero(), dv = Vec<D>::Zero();
+  Mat<D> L = Mat<D>::Zero();
+};
+
+// G2P gather from the step's final nodal velocities `vel` and increments `dvel` of field `off`.
+template <int D>
+inline Gathered<D> gather(const Grid<D>& g, long off, const Stencil<D>& st, bool gradient) {
+  const Vec<D>* gv = g.vel.data() + off;
+  const Vec<D>* gdv = g.dvel.data() + off;
+  Gathered<D> r;
+  if constexpr (D == 2) {
+    // Tensor-product form: per node row j the x-sums a_j = sum_i wx_i v_ij,
+    // b_j = sum_i gx_i v_ij and c_j = sum_i wx_i dv_ij; then v = sum_j wy_j a_j,
+    // dv = sum_j wy_j c_j and L = sum v (x) G = [sum_j wy_j b_j | sum_j gy_j a_j].
+    const auto& wx = st.w[0];
+    const auto& gx = st.g[0];
+    const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
+    for (int j = 0; j < 3; ++j) {
+      const long rr = b0 + j * g.stride[1];
+      const double wy = st.w[1][j];
+      const Vec<D> aj = wx[0] * gv[rr] + wx[1] * gv[rr + 1] + wx[2] * gv[rr + 2];
+      const Vec<D> cj = wx[0] * gdv[rr] + wx[1] * gdv[rr + 1] + wx[2] * gdv[rr + 2];
+      r.vpic += wy * aj;
+      r.dv += wy * cj;
+      if (gradient) {
+        const Vec<D> bj = gx[0] * gv[rr] + gx[1] * gv[rr + 1] + gx[2] * gv[rr + 2];
+        r.L.col(0) += wy * bj;
+        r.L.col(1) += st.g[1][j] * aj;
+      }
+    }
+  } else if (gradient) {
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {
+      r.vpic += S * gv[i];
+      r.dv += S * gdv[i];
+      r.L += gv[i] * G.transpose();
+    });
+  } else {
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+      r.vpic += S * gv[i];
+      r.dv += S * gdv[i];
+    });
+  }
+  return r;
+}
+
+}  // namespace pbx
