@@ -31,16 +31,20 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
   const std::size_t nb = bodies.size();
   std::vector<Vec<D>> vb(nb);
   std::vector<double> face(nb);
+  // each body's presence array, looked up once: the node loop below visits every node of the
+  // grid for every body, and most nodes have no body at all
+  std::vector<const double*> presence(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     vb[b] = bodies[b].velocity_at(t);
     face[b] = bodies[b].face_at(t) + 1e-9 * grid.h;
+    presence[b] = grid.presence.data() + static_cast<std::size_t>(bodies[b].field - grid.deformable) * static_cast<std::size_t>(nn);
   }
 
   BodySums<D> sums = ordered_reduce(nn, BodySums<D>(nb), [&](long begin, long end) {
     BodySums<D> s(nb);
     for (long i = begin; i < end; ++i) {
       for (std::size_t b = 0; b < nb; ++b) {
-        if (grid.rigid_presence(bodies[b].field, i) <= 0.0) continue;
+        if (presence[b][i] <= 0.0) continue;
         const Vec<D>& n = bodies[b].normal;
         const double xn = grid.position(i).dot(n);
         const bool behind = xn <= face[b];
