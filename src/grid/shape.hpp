@@ -31,6 +31,14 @@ void with_kernel(Kernel k, F&& f) {
   }
 }
 
+// A particle's half-width a in cells (uGIMP) with the reciprocals the kernel uses. A stage builds
+// it once, so the two divisions are not repeated per particle (the compiler does not hoist them
+// out of a particle loop that might not run: they could trap). Implicit from a double.
+struct HalfWidth {
+  double a, inv_2a, inv_4a;
+  HalfWidth(double half_width) : a(half_width), inv_2a(0.5 / half_width), inv_4a(0.25 / half_width) {}  // NOLINT
+};
+
 template <int D>
 struct Stencil {
   std::array<int, D> base;                     // lowest node index per axis
@@ -102,9 +110,9 @@ inline void kernel_1d(double s, double a, double inv_h, int& base, std::array<do
 }
 
 template <int D, Kernel K>
-inline Stencil<D> make_stencil(const Vec<D>& x, const Vec<D>& origin, double inv_h, double a) {
+inline Stencil<D> make_stencil(const Vec<D>& x, const Vec<D>& origin, double inv_h, const HalfWidth& a) {
   Stencil<D> st;
-  for (int d = 0; d < D; ++d) kernel_1d<K>((x[d] - origin[d]) * inv_h, a, inv_h, st.base[d], st.w[d], st.g[d]);
+  for (int d = 0; d < D; ++d) kernel_1d<K>((x[d] - origin[d]) * inv_h, a.a, inv_h, st.base[d], st.w[d], st.g[d]);
   return st;
 }
 
@@ -120,7 +128,7 @@ inline v2d splat(double x) { return v2d{x, x}; }
 // to either side: the branches mispredict at random, twice per particle and step. The lanes do
 // the same IEEE operations as kernel_1d, so the stencil is the same bit for bit (tested).
 template <>
-inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& origin, double inv_h, double a) {
+inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& origin, double inv_h, const HalfWidth& hw) {
   using detail::splat;
   using detail::v2d;
   using detail::v2l;
@@ -129,7 +137,7 @@ inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& 
   v2d fl = __builtin_convertvector(__builtin_convertvector(sh, v2l), v2d);  // truncation
   fl = fl > sh ? fl - splat(1.0) : fl;                                      // floor below zero
   const v2d u = s - fl;
-  const v2d inv_2a = splat(0.5 / a), inv_4a = splat(0.25 / a), va = splat(a), ma = splat(-a);
+  const v2d inv_2a = splat(hw.inv_2a), inv_4a = splat(hw.inv_4a), va = splat(hw.a), ma = splat(-hw.a);
   const v2d one = splat(1.0), zero = splat(0.0), ih = splat(inv_h);
   const v2d r = u < zero ? -u : u;
   const v2d sgn = u < zero ? -one : one;

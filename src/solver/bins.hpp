@@ -41,7 +41,8 @@ struct StripBins {
     for (int d = 0; d < D; ++d) {
       const double s = (x[d] - g.origin[d]) * inv_h;
       if (!(s >= 1.0 && s < static_cast<double>(g.n[d]) - 2.0)) return kOutside;
-      if (d == 0 && strip_of(s) != home) r = kStray;
+      // s >= 1 here, so truncation is the floor (std::floor is a library call on baseline x86-64)
+      if (d == 0 && strip_of_cell(static_cast<long>(s)) != home) r = kStray;
     }
     return r;
   }

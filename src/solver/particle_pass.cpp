@@ -33,7 +33,8 @@ template <Kernel K>
 void Solver<D>::particle_pass_impl() {
   auto& g = sc_.grid;
   auto& P = sc_.particles;
-  const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_, alpha = sc_.settings.flip;
+  const double inv_h = 1.0 / g.h, dt = dt_, alpha = sc_.settings.flip;
+  const HalfWidth a(half_width_);
   const long nn = g.nodes();
   const std::size_t nm = sc_.materials.size();
   const Scatter<D> scatter_one = scatter(true, true);

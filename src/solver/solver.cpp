@@ -186,7 +186,8 @@ template <Kernel K>
 void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   const auto& g = sc_.grid;
   const auto& P = sc_.particles;
-  const double inv_h = 1.0 / g.h, a = half_width_;
+  const double inv_h = 1.0 / g.h;
+  const HalfWidth a(half_width_);
   const Scatter<D> scatter_one = scatter(mass_momentum, forces);
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1)
@@ -212,7 +213,8 @@ template <int D>
 template <Kernel K>
 void Solver<D>::rigid_p2g_impl() {
   auto& g = sc_.grid;
-  const double inv_h = 1.0 / g.h, a = half_width_;
+  const double inv_h = 1.0 / g.h;
+  const HalfWidth a(half_width_);
   const long nn = g.nodes();
   std::fill(g.presence.begin(), g.presence.end(), 0.0);
   for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
@@ -296,7 +298,8 @@ template <Kernel K>
 void Solver<D>::g2p_impl() {
   auto& g = sc_.grid;
   auto& P = sc_.particles;
-  const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_, alpha = sc_.settings.flip;
+  const double inv_h = 1.0 / g.h, dt = dt_, alpha = sc_.settings.flip;
+  const HalfWidth a(half_width_);
   const long nn = g.nodes();
   const Integrator integ = sc_.settings.integrator;
   const bool musl = integ == Integrator::musl, usl = integ == Integrator::usl;
@@ -364,7 +367,8 @@ template <Kernel K>
 void Solver<D>::remap_gradient_impl() {
   auto& g = sc_.grid;
   auto& P = sc_.particles;
-  const double inv_h = 1.0 / g.h, a = half_width_, dt = dt_;
+  const double inv_h = 1.0 / g.h, dt = dt_;
+  const HalfWidth a(half_width_);
   const long nn = g.nodes();
   const long nd = static_cast<long>(sc_.deformable_fields) * nn;
 #pragma omp parallel for schedule(static)
@@ -410,7 +414,8 @@ template <Kernel K>
 void Solver<D>::velocity_gradient_impl() {
   auto& g = sc_.grid;
   auto& P = sc_.particles;
-  const double inv_h = 1.0 / g.h, a = half_width_;
+  const double inv_h = 1.0 / g.h;
+  const HalfWidth a(half_width_);
   const long nn = g.nodes();
   const long nd = static_cast<long>(sc_.deformable_fields) * nn;
 #pragma omp parallel for schedule(static)
