@@ -403,11 +403,18 @@ void order_by_strip(Scene<D>& sc) {
   const std::size_t np = P.size();
   std::vector<long> strip(np);
   for (std::size_t p = 0; p < np; ++p) strip[p] = strips.strip_of((P.x[p][0] - sc.grid.origin[0]) * inv_h);
-  if (std::is_sorted(strip.begin(), strip.end())) return;
-  std::vector<std::uint32_t> order(np);
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
-  P.reorder(order);
+  // the solver also needs every batch in storage order (a strip's particles of one material are
+  // then a contiguous part of the batch)
+  bool batches_in_order = true;
+  for (const auto& st : sc.material_state) batches_in_order = batches_in_order && std::is_sorted(st.index.begin(), st.index.end());
+  const bool strips_in_order = std::is_sorted(strip.begin(), strip.end());
+  if (strips_in_order && batches_in_order) return;
+  if (!strips_in_order) {
+    std::vector<std::uint32_t> order(np);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
+    P.reorder(order);
+  }
   // batches in the new storage order; a particle's history row moves with it (slot = old row)
   for (std::size_t m = 0; m < sc.material_state.size(); ++m) {
     auto& st = sc.material_state[m];

@@ -77,9 +77,9 @@ template <int D>
 Scene<D> build_scene(const Deck& deck);
 
 // Orders the particles strip by strip (the solver's scatter strips, solver/bins.hpp), creation
-// order within a strip; material batches, history rows and slots follow. Leaves the scene as it
-// is when the particles are already in that order (build_scene orders them; the solver calls
-// this again for scenes built by hand).
+// order within a strip; material batches (in storage order), history rows and slots follow.
+// Leaves the scene as it is when particles and batches are already in that order (build_scene
+// orders them; the solver calls this again for scenes built by hand).
 template <int D>
 void order_by_strip(Scene<D>& sc);
 
