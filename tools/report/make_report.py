@@ -320,7 +320,7 @@ def main():
             ax.plot(100 * e, v / 1e6, "--", color=line.get_color(), lw=0.8)
         ax.set_xlabel("strain (%)")
         ax.set_ylabel("stress (MPa)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig2_curves_vs_temperature",
                    "Stress-strain curves vs temperature (cf. Fig. 2): punch stress solid, volume average -σyy dashed")
 
@@ -358,7 +358,7 @@ def main():
             ax.plot(*zip(*exp), "kx", label="E experiment (paper ref. 32)")
         ax.set_xlabel("temperature (K)")
         ax.set_ylabel("modulus (GPa)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig3_moduli_vs_temperature", "Moduli vs temperature (cf. Fig. 3); open symbols: paper Table 2")
 
         rows = []
@@ -388,7 +388,7 @@ def main():
         ax.plot(Tg, eq13(Tg, pf["sigma0_MPa"], pf["alpha"], pf["T0_K"]), "k--", lw=0.8, label="Eq. 13 paper")
         ax.set_xlabel("temperature (K)")
         ax.set_ylabel("compression strength (MPa)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig4_strength_vs_temperature", "Compression strength vs temperature (cf. Fig. 4)")
 
         fig, ax = plt.subplots(figsize=(6, 4.5))
@@ -407,7 +407,7 @@ def main():
         ax.set_xlabel("strain (%)")
         ax.set_ylabel("σ / σc")
         ax.set_ylim(0, 1.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig5_normalized_curves", "Normalised curves σ/σc (cf. Fig. 5) with Eq. 14")
 
         f13 = get(fits, "eq13", "nonlinear", default=None)
@@ -422,7 +422,7 @@ def main():
                 ax.plot(eg, law / 1e6, "-", color=pts.get_color(), label=f"Eq. 15, {run_T(r):.0f} K")
             ax.set_xlabel("strain (%)")
             ax.set_ylabel("stress (MPa)")
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
             rep.figure(fig, "fig6_eq15_vs_simulation",
                        "Eq. 15 (ours, on its plateau window) against the simulation points (cf. Fig. 6)")
 
@@ -439,7 +439,7 @@ def main():
         ax.axhline(paper["curves"]["stress_at_99pct_TMD_MPa"], color="k", lw=0.6, ls=":", label="paper: 42.3 MPa at 99 % TMD")
         ax.set_xlabel("strain (%)")
         ax.set_ylabel("stress (MPa)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig7_curves_vs_density", "Stress-strain curves vs density (cf. Fig. 7)")
 
         rows = []
@@ -465,7 +465,7 @@ def main():
                         marker=mk, capsize=3, label=lab)
         ax.set_xlabel("density (g/cm³)")
         ax.set_ylabel("modulus (GPa)")
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig8_moduli_vs_density", "Moduli vs density (cf. Fig. 8)")
 
         fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
