@@ -1,6 +1,7 @@
 // pbxmpm analyze / fit / report: the analysis of run and study directories (src/analysis).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -85,6 +86,17 @@ AnalysisOptions analysis_options(const AnalyzeArgs& a) {
   o.allow_unfinished = a.allow_unfinished;
   o.validate();
   return o;
+}
+
+// A study directory's analysis.toml (its deck's [analysis] table) is the default options file of
+// `fit study` and `report`, so they read the runs the way the study did.
+AnalyzeArgs with_study_options(AnalyzeArgs a) {
+  const std::string file = a.dir + "/analysis.toml";
+  if (a.options_file.empty() && std::filesystem::exists(file)) {
+    a.options_file = file;
+    fmt::print(stderr, "pbxmpm: analysis options from {} (the study deck's [analysis] table)\n", file);
+  }
+  return a;
 }
 
 void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
@@ -283,7 +295,7 @@ void register_analysis(CLI::App& app) {
   fs->callback([sa, oa, fsa] {
     StudyFitOptions o;
     apply_study_flags(*fsa, o);
-    o.analysis = analysis_options(*sa);
+    o.analysis = analysis_options(with_study_options(*sa));
     const Json j = fit_study(load_study(sa->dir, o), o);
     const std::string out = oa->out.empty() ? sa->dir + "/fits.json" : oa->out;
     j.write_file(out);
@@ -303,7 +315,7 @@ void register_analysis(CLI::App& app) {
   add_study_flags(rep, *rsa);
   rep->callback([ra, ro, rsa] {
     apply_study_flags(*rsa, ro->fits);
-    ro->fits.analysis = analysis_options(*ra);
+    ro->fits.analysis = analysis_options(with_study_options(*ra));
     const std::string out = build_report(ra->dir, *ro);
     fmt::print("report written to {}/report.html (and report.md)\n", out);
   });

@@ -189,7 +189,12 @@ StudySpec read_study(const std::string& file) {
       }
     }
   }
-  if (auto a = deck.root().optional_table("analysis")) s.analysis = AnalysisOptions::from_deck(*a);
+  if (auto a = deck.root().optional_table("analysis")) {
+    s.analysis = AnalysisOptions::from_deck(*a);
+    std::stringstream text;
+    text << toml::table{{"analysis", *tree["analysis"].as_table()}} << "\n";
+    s.analysis_text = text.str();
+  }
   deck.check_unused();
   return s;
 }
@@ -241,6 +246,13 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
                        r.id, r.group, json_quote(r.value_label), r.seed, i + 1 < s.runs.size() ? "," : "");
     }
     f << "  ]\n}\n";
+  }
+  // The [analysis] table beside the runs, so that a later `pbxmpm report DIR` analyses them the
+  // same way; removed when the study deck no longer has one.
+  if (mpi.rank == 0) {
+    if (s.analysis_text.empty()) fs::remove(out / "analysis.toml");
+    else std::ofstream(out / "analysis.toml") << "# the study deck's [analysis] table, written by pbxmpm study\n"
+                                              << s.analysis_text;
   }
   mpi.barrier();
   // Every run's deck is built once (specimen included, about a second at 5 um) before the first

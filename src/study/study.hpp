@@ -4,7 +4,8 @@
 // ranks (rank r takes runs r, r + n, ...; OpenMP inside each run); without MPI they run in turn.
 // A study that stops can be started again: finished runs (run.json "finished" and analysis.json
 // present) are skipped. Layout: STUDY/study.json, STUDY/runs/<id>/{deck.toml, history.csv,
-// run.json, analysis.json, snapshots/}, STUDY/report/.
+// run.json, analysis.json, snapshots/}, STUDY/analysis.toml (the study deck's [analysis] table, read by
+// `pbxmpm report` and `fit study` when no analysis options are given), STUDY/report/.
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct StudySpec {
   // The study deck's optional [analysis] table, applied to every run, so all runs of a study are
   // analysed with one linear window (automatic windows can end at different strains per run).
   AnalysisOptions analysis;
+  std::string analysis_text;  // that table as TOML ("" if none): written to STUDY/analysis.toml
 };
 
 // Reads and validates a study deck (unknown keys are errors naming the key).

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "io/deck.hpp"
 #include "study/study.hpp"
 
 namespace fs = std::filesystem;
@@ -107,6 +108,7 @@ TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
     const StudySpec s = read_study((dir / "study.toml").string());
     EXPECT_FALSE(s.analysis.window_lo.has_value());
     ASSERT_EQ(run_study(s, o), 0);
+    EXPECT_FALSE(fs::exists(dir / "out" / "analysis.toml"));  // no [analysis] table, no file
     EXPECT_NE(slurp(dir / "out" / "runs" / s.runs[0].id / "analysis.json").find("\"automatic\": true"),
               std::string::npos);
   }
@@ -115,6 +117,15 @@ TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
   ASSERT_TRUE(s.analysis.window_lo.has_value());
   EXPECT_DOUBLE_EQ(*s.analysis.window_lo, 0.002);
   ASSERT_EQ(run_study(s, o), 0);  // both runs finished: skipped, but re-analysed with the window
+  // the table is kept beside the runs for `pbxmpm report` / `fit study` (their default options)
+  {
+    ASSERT_TRUE(fs::exists(dir / "out" / "analysis.toml"));
+    Deck kept = Deck::from_file((dir / "out" / "analysis.toml").string());
+    const AnalysisOptions a = AnalysisOptions::from_deck(kept.root().table("analysis"));
+    ASSERT_TRUE(a.window_lo.has_value());
+    EXPECT_DOUBLE_EQ(*a.window_lo, 0.002);
+    EXPECT_DOUBLE_EQ(*a.window_hi, 0.005);
+  }
   for (const auto& r : s.runs) {
     const std::string a = slurp(dir / "out" / "runs" / r.id / "analysis.json");
     EXPECT_NE(a.find("\"automatic\": false"), std::string::npos) << r.id;
