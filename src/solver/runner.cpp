@@ -265,8 +265,11 @@ void Runner<D>::report_progress(const Measurement& m, bool final) {
                  std::string(static_cast<std::size_t>(width - fill), ' ').c_str(), 100 * frac, 100 * m.strain,
                  m.punch_stress / 1e6, rate, hms(eta).c_str(), final ? "\n" : "");
     std::fflush(stderr);
-  } else if (final || frac - last_progress_ >= 0.1) {
+  } else if (final || frac - last_progress_ >= 0.1 || wall - last_progress_wall_ >= 60.0) {
+    // every 10 % or every minute, whichever comes first: a multi-hour run in a log file (no
+    // terminal) must still show it is alive
     last_progress_ = frac;
+    last_progress_wall_ = wall;
     std::fprintf(stderr, "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s\n",
                  100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str());
   }

@@ -67,7 +67,7 @@ class Runner {
   SnapshotWriter snapshots_;
   std::vector<std::string> columns_;
   std::vector<MaterialPair> contact_pairs_;  // material pairs with contact columns in history.csv
-  double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1;
+  double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1, last_progress_wall_ = 0;
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;
   bool tty_ = false;
