@@ -255,13 +255,28 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
                                               << s.analysis_text;
   }
   mpi.barrier();
-  // Every run's deck is built once (specimen included, about a second at 5 um) before the first
-  // run starts: a mistyped override in the last run must fail now, not hours into the study.
+  // Before the first run starts: a finished run is reused only if the study still gives it the
+  // same deck (a changed base deck or override must not be mixed silently with old results), and
+  // every other run's deck is built once (specimen included, about a second at 5 um), so that a
+  // mistyped override in the last run fails now, not hours into the study.
   int invalid = 0;
   for (std::size_t i = 0; i < s.runs.size(); ++i) {
     if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) != mpi.rank) continue;
     const auto& r = s.runs[i];
-    if (finished(out / "runs" / r.id)) continue;
+    const fs::path dir = out / "runs" / r.id;
+    if (finished(dir)) {
+      std::stringstream was;
+      was << std::ifstream(dir / "deck.toml").rdbuf();
+      const std::string diff = first_difference(was.str(), run_deck_text(s, r));
+      if (!diff.empty()) {
+        ++invalid;
+        std::fprintf(stderr,
+                     "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
+                     "delete %s to run it again, or use another --out\n",
+                     r.id.c_str(), diff.c_str(), dir.c_str());
+      }
+      continue;
+    }
     try {
       Deck deck = Deck::from_string(run_deck_text(s, r), "deck.toml");
       Scene<2> scene = build_scene<2>(deck);
@@ -273,7 +288,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   }
   invalid = mpi.sum(invalid);
   if (invalid > 0) {
-    if (mpi.rank == 0) std::fprintf(stderr, "pbxmpm study: %d run deck(s) invalid; no run started\n", invalid);
+    if (mpi.rank == 0)
+      std::fprintf(stderr, "pbxmpm study: %d run(s) with an invalid or changed deck; no run started\n", invalid);
     return invalid;
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -286,19 +302,6 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const fs::path dir = out / "runs" / r.id;
     ++done;
     if (finished(dir)) {
-      // A finished run is reused only if the study still gives it the same deck: a changed base
-      // deck or override must not be mixed silently with results made from the old one.
-      std::stringstream was;
-      was << std::ifstream(dir / "deck.toml").rdbuf();
-      const std::string diff = first_difference(was.str(), run_deck_text(s, r));
-      if (!diff.empty()) {
-        ++failed;
-        std::fprintf(stderr,
-                     "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
-                     "delete %s to run it again, or use another --out\n",
-                     r.id.c_str(), diff.c_str(), dir.c_str());
-        continue;
-      }
       // re-analysed (cheap) so that a changed [analysis] table applies to finished runs as well
       std::fprintf(stderr, "pbxmpm study: [%d/%d] %s already finished, skipped (re-analysed)\n", done, mine,
                    r.id.c_str());
