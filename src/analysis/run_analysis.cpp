@@ -55,6 +55,32 @@ Json thinned_curve(const StressStrainCurve& c, int target) {
   return j;
 }
 
+// Growth of the field-overlap area over the run against the box area the punch took away
+// (width x displacement): the share of the compaction that went into grains passing into each
+// other instead of closing pores or compressing the solids. Null without the history column.
+Json interpenetration_json(const StressStrainCurve& c, double width, double height, const AnalysisOptions& opt,
+                           std::vector<std::string>& warnings) {
+  if (c.field_overlap.empty() || c.size() == 0) return Json();
+  Json j = Json::object();
+  const double a0 = c.field_overlap.front(), a1 = c.field_overlap.back();
+  const double box = width * height, lost = c.strain.back() * box;
+  j.set("overlap_start_m2_per_m", a0);
+  j.set("overlap_end_m2_per_m", a1);
+  j.set("at_strain", c.strain.back());
+  j.set("growth_fraction_of_box", (a1 - a0) / box);
+  const bool have = std::isfinite(lost) && lost > 0;
+  const double share = have ? (a1 - a0) / lost : std::nan("");
+  j.set("share_of_compaction", have ? Json(share) : Json());
+  j.set("limit", opt.overlap_limit);
+  j.set("flagged", have && share > opt.overlap_limit);
+  if (have && share > opt.overlap_limit) {
+    warnings.push_back(fmt::format("grains pass into each other: the overlap of different fields' particle domains "
+                                   "grows by {:.3g} % of the box area, {:.3g} % of the compaction (limit {:.3g} %)",
+                                   100 * (a1 - a0) / box, 100 * share, 100 * opt.overlap_limit));
+  }
+  return j;
+}
+
 }  // namespace
 
 AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
@@ -81,6 +107,7 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
   o.window_max_strain = t.in_range("window_max_strain", 1e-9, 1.0, o.window_max_strain);
   o.strength_max_strain = t.in_range("strength_max_strain", 1e-9, 1.0, o.strength_max_strain);
   o.ke_ie_limit = t.in_range("ke_ie_limit", 0.0, 10.0, o.ke_ie_limit);
+  o.overlap_limit = t.in_range("overlap_limit", 0.0, 1.0, o.overlap_limit);
   try {
     o.validate();
   } catch (const InputError& e) {
@@ -114,6 +141,7 @@ Json AnalysisOptions::to_json() const {
   j.set("strength_max_strain", strength_max_strain);
   j.set("plateau_window", plateau_lo ? Json::numbers({*plateau_lo, *plateau_hi}) : Json("automatic"));
   j.set("ke_ie_limit", ke_ie_limit);
+  j.set("overlap_limit", overlap_limit);
   return j;
 }
 
@@ -226,6 +254,8 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     warnings.push_back(fmt::format("not quasi-static: KE/IE reaches {:.3g} after the ramp (limit {:.3g})", ke_max,
                                    opt.ke_ie_limit));
   }
+  j.set("interpenetration", interpenetration_json(c, number_or(spec, "width_m", std::nan("")),
+                                                  number_or(spec, "height_m", std::nan("")), opt, warnings));
   Json warn = Json::array();
   for (auto& s : warnings) warn.push(s);
   j.set("warnings", warn);

@@ -21,6 +21,10 @@ struct AnalysisOptions {
   double strength_max_strain = 0.03;
   std::optional<double> plateau_lo, plateau_hi;
   double ke_ie_limit = 0.05;
+  // Largest share of the punch's compaction (box area lost) that may be taken up by overlapping
+  // particle domains of different fields before the run is flagged (history column
+  // field_overlap_m2_per_m; docs/theory/analysis.md).
+  double overlap_limit = 0.25;
   bool allow_unfinished = false;
   int curve_points = 400;  // the curve stored in analysis.json is thinned to about this many points
 

@@ -17,6 +17,7 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
   const auto& szz = t.column("szz_Pa");
   const auto& keie = t.column("ke_ie");
   const auto& time = t.column("t_s");
+  const std::vector<double>* overlap = t.has("field_overlap_m2_per_m") ? &t.column("field_overlap_m2_per_m") : nullptr;
   StressStrainCurve c;
   for (std::size_t i = 0; i < t.rows(); ++i) {
     if (!std::isfinite(eps[i])) continue;
@@ -28,6 +29,7 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
     c.vol_out_of_plane.push_back(-szz[i]);
     c.ke_ie.push_back(keie[i]);
     c.time.push_back(time[i]);
+    if (overlap) c.field_overlap.push_back((*overlap)[i]);
   }
   return c;
 }

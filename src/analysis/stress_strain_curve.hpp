@@ -16,6 +16,7 @@ struct StressStrainCurve {
   std::vector<double> vol_out_of_plane;  // Pa, -<sigma_zz>
   std::vector<double> ke_ie;           // kinetic / internal energy of the specimen
   std::vector<double> time;            // s
+  std::vector<double> field_overlap;   // m^2 per m, overlapping domains of different fields (empty: not in the file)
   std::size_t size() const { return strain.size(); }
 
   // Reads the columns above from a history.csv; other columns are ignored. Rows with a

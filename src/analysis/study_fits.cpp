@@ -224,24 +224,30 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   out.set("format", "pbxmpm-fits-1");
   out.set("confidence", opt.confidence);
 
-  // Conditions: runs with the same group, temperature and nominal density are seeds of one condition.
+  // Conditions: the seeds of one study value (study.json "group" and "value", as `pbxmpm study`
+  // writes them) form one condition. Entries without a value (hand-made study.json files) group by
+  // temperature and nominal density instead. The measured density cannot be the key: each seed's
+  // packing lands on its own density within the porosity tolerance.
   struct Cond {
-    std::string group;
+    std::string group, value;
     double T = 0, rho_nominal = 0;
     std::vector<const StudyRun*> runs;
   };
   std::vector<Cond> conds;
   for (const auto& r : runs) {
     const std::string g = group_of(r);
+    const std::string value = str(r.entry, "value");
     const double T = temperature_of(r);
     double rn = num(r.entry, {"density_g_cm3"});
     rn = std::isfinite(rn) ? rn * 1e3 : density_of(r);
     auto same = [&](const Cond& c) {
-      return c.group == g && std::fabs(c.T - T) < 0.5 && (std::fabs(c.rho_nominal - rn) < 0.5 || (std::isnan(rn) && std::isnan(c.rho_nominal)));
+      if (c.group != g || c.value != value) return false;
+      if (!value.empty()) return true;
+      return std::fabs(c.T - T) < 0.5 && (std::fabs(c.rho_nominal - rn) < 0.5 || (std::isnan(rn) && std::isnan(c.rho_nominal)));
     };
     auto it = std::find_if(conds.begin(), conds.end(), same);
     if (it == conds.end()) {
-      conds.push_back({g, T, rn, {}});
+      conds.push_back({g, value, T, rn, {}});
       it = conds.end() - 1;
     }
     it->runs.push_back(&r);
@@ -250,6 +256,7 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   for (const auto& c : conds) {
     Json e = Json::object();
     e.set("group", c.group);
+    e.set("value", c.value);
     e.set("temperature_K", c.T);
     e.set("density_nominal_kg_m3", c.rho_nominal);
     Json ids = Json::array();

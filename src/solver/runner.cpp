@@ -52,6 +52,12 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
     if (mp.first != mp.second)
       for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("contact_{}_f{}_N_per_m", mp.name, axes[d]));
   }
+  if constexpr (D == 2) {
+    if (sc_.deformable_fields > 1 && sc_.particles.size() > 0) {
+      overlap_.emplace(sc_.grid, FieldOverlap::default_pixel(sc_.particles));
+      columns_.push_back("field_overlap_m2_per_m");
+    }
+  }
   if (!opt_.out_dir.empty()) {
     std::filesystem::create_directories(opt_.out_dir);
     if (!restart) history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
@@ -133,6 +139,9 @@ Measurement Runner<D>::measure() {
     m.pair_force.push_back(std::move(f));
   }
   tally.clear();
+  if constexpr (D == 2) {
+    if (overlap_) m.field_overlap.push_back(overlap_->area(P));
+  }
   t_last_row_ = t;
   return m;
 }
@@ -149,6 +158,7 @@ std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
     for (double x : f) v.push_back(x);
   for (auto& f : m.pair_force)
     for (double x : f) v.push_back(x);
+  for (double x : m.field_overlap) v.push_back(x);
   return v;
 }
 

@@ -4,9 +4,11 @@
 // run.json and a progress display. On an instability it stops, writes a last snapshot and marks
 // run.json "failed" with the message, keeping every row written before.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "contact/field_overlap.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
 #include "io/snapshot.hpp"
@@ -27,6 +29,9 @@ struct Measurement {
   // Per contact material pair (Runner::contact_pairs()): normal and shear force summed over the
   // interface nodes, then, when the materials differ, the net force on the first (D), N (per m).
   std::vector<std::vector<double>> pair_force;
+  // Area where the particle domains of different fields overlap (contact/field_overlap.hpp),
+  // m^2 per m; empty when not measured (3-D, or a single deformable field).
+  std::vector<double> field_overlap;
 };
 
 struct RunOptions {
@@ -67,6 +72,7 @@ class Runner {
   SnapshotWriter snapshots_;
   std::vector<std::string> columns_;
   std::vector<MaterialPair> contact_pairs_;  // material pairs with contact columns in history.csv
+  std::optional<FieldOverlap> overlap_;      // 2-D with several deformable fields
   double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1, last_progress_wall_ = 0;
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;

@@ -176,8 +176,11 @@ void Solver<D>::keep_interpolated_momentum() {
 template <int D>
 Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
   const Vec<D> grav = sc_.settings.gravity;
+  // Mass-centre offsets serve two checks: the rigid-body contact gate and the field position check
+  // (contact.position_check), which without them would compare zero offsets and never fire.
+  const bool offsets = !sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0;
   return Scatter<D>{sc_.grid, sc_.particles, sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0,
-                    mass_momentum, forces, !sc_.bodies.empty(), track_gradients_};
+                    mass_momentum, forces, offsets, track_gradients_};
 }
 
 // Even strips in parallel, then odd strips, then the strays serially (solver/bins.hpp).

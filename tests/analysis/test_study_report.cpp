@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/study_fits.hpp"
 #include "analysis/study_report.hpp"
 #include "core/error.hpp"
 #include "synthetic_run.hpp"
@@ -17,7 +18,9 @@ namespace fs = std::filesystem;
 
 namespace {
 // Paper Table 2 (K, G) and Table 3 (strength) per temperature; Eq. 21-22 per density.
-fs::path make_study(const std::string& name) {
+// study_format: study.json entries as `pbxmpm study` writes them (group, value, seed; no
+// temperature or density), with the second 293 K seed packed 3 kg/m3 denser than the first.
+fs::path make_study(const std::string& name, bool study_format = false) {
   const fs::path dir = fs::temp_directory_path() / ("pbx_test_study_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir / "runs");
@@ -28,7 +31,7 @@ fs::path make_study(const std::string& name) {
     int seed;
   };
   std::vector<Row> rows{{"T293_s1", "temperature", 293, 1787, 2.79e9, 1.30e9, 32.8e6, 1},
-                        {"T293_s2", "temperature", 293, 1787, 2.83e9, 1.27e9, 33.4e6, 2},
+                        {"T293_s2", "temperature", 293, study_format ? 1790.0 : 1787.0, 2.83e9, 1.27e9, 33.4e6, 2},
                         {"T333_s1", "temperature", 333, 1787, 2.76e9, 1.09e9, 28.2e6, 1},
                         {"T353_s1", "temperature", 353, 1787, 2.77e9, 0.98e9, 24.1e6, 1},
                         {"T373_s1", "temperature", 373, 1787, 2.63e9, 0.77e9, 15.6e6, 1}};
@@ -49,8 +52,13 @@ fs::path make_study(const std::string& name) {
     s.seed = r.seed;
     s.rows = 241;
     test::write_synthetic_run(dir / "runs" / r.id, s);
-    runs += fmt::format(R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}})",
-                        runs.empty() ? "" : ",\n  ", r.id, r.id, r.group, r.T, r.rho / 1e3, r.seed);
+    if (study_format)
+      runs += fmt::format(R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "value": "{}", "seed": {}}})",
+                          runs.empty() ? "" : ",\n  ", r.id, r.id, r.group,
+                          r.group == "temperature" ? fmt::format("{} K", r.T) : fmt::format("{}", r.rho), r.seed);
+    else
+      runs += fmt::format(R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}})",
+                          runs.empty() ? "" : ",\n  ", r.id, r.id, r.group, r.T, r.rho / 1e3, r.seed);
   }
   std::ofstream(dir / "study.json") << "{\"name\": \"synthetic\", \"runs\": [\n  " << runs << "]}\n";
   return dir;
@@ -75,6 +83,24 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   EXPECT_NE(text.find("2.357"), std::string::npos);
   EXPECT_NE(text.find("reproduced by neither"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "runs" / "T333_s1" / "analysis.json"));
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+TEST(StudyReport, SeedsOfOneStudyValueAreOneConditionWhateverTheirDensity) {
+  // The seeds of a value are one condition even though each packing has its own density (the
+  // grouping once used the measured density and split five seeds into three conditions).
+  const fs::path dir = make_study("seeds", true);
+  StudyFitOptions opt;
+  const Json fits = fit_study(load_study(dir.string(), opt), opt);
+  const Json* conds = fits.find("conditions");
+  ASSERT_NE(conds, nullptr);
+  ASSERT_EQ(conds->as_array().size(), 7u);  // 4 temperatures + 3 densities
+  const Json& first = conds->as_array().front();
+  EXPECT_EQ(first.find("value")->as_string(), "293 K");
+  EXPECT_EQ(first.find("runs")->as_array().size(), 2u);
+  const Json* rho = first.find("stats")->find("density_kg_m3");
+  EXPECT_NEAR(rho->find("mean")->as_number(), 1788.5, 1e-9);
+  EXPECT_NEAR(rho->find("std")->as_number(), 3 / std::sqrt(2.0), 1e-9);
   if (!HasFailure()) fs::remove_all(dir);
 }
 

@@ -1,0 +1,62 @@
+#include "contact/field_overlap.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace pbx {
+
+namespace {
+// Raster cap (pixels); a finer request is coarsened by powers of 2. 2^26 int32 = 256 MB.
+constexpr long kMaxPixels = 1L << 26;
+}  // namespace
+
+FieldOverlap::FieldOverlap(const Grid<2>& g, double pixel) : pixel_(pixel), origin_(g.origin) {
+  if (!(pixel > 0) || !std::isfinite(pixel)) throw InputError(fmt::format("field overlap: pixel {} m must be > 0", pixel));
+  const double wx = g.h * static_cast<double>(g.n[0] - 1), wy = g.h * static_cast<double>(g.n[1] - 1);
+  while (std::ceil(wx / pixel_) * std::ceil(wy / pixel_) > static_cast<double>(kMaxPixels)) pixel_ *= 2.0;
+  nx_ = static_cast<long>(std::ceil(wx / pixel_));
+  ny_ = static_cast<long>(std::ceil(wy / pixel_));
+  owner_.assign(static_cast<std::size_t>(nx_ * ny_), -1);
+}
+
+double FieldOverlap::default_pixel(const Particles<2>& P) {
+  double v = HUGE_VAL;
+  for (double v0 : P.volume0) v = std::min(v, v0);
+  return P.size() ? 0.25 * std::sqrt(v) : 0.0;
+}
+
+double FieldOverlap::area(const Particles<2>& P) {
+  std::fill(owner_.begin(), owner_.end(), -1);
+  const double inv = 1.0 / pixel_;
+  long shared = 0;
+  // Pixel k covers [k, k+1) pixels from the origin; its centre k + 1/2 lies in [lo, hi) when
+  // ceil(lo - 1/2) <= k < ceil(hi - 1/2). Aligned domains put every edge half a pixel away from
+  // the nearest centre, so rounding never decides.
+  auto range = [](double lo, double hi, long n, long& k0, long& k1) {
+    k0 = std::max(0L, static_cast<long>(std::ceil(lo - 0.5)));
+    k1 = std::min(n, static_cast<long>(std::ceil(hi - 0.5)));
+  };
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const double half = 0.5 * std::sqrt(std::max(P.volume[p], 0.0)) * inv;
+    const double cx = (P.x[p][0] - origin_[0]) * inv, cy = (P.x[p][1] - origin_[1]) * inv;
+    long i0, i1, j0, j1;
+    range(cx - half, cx + half, nx_, i0, i1);
+    range(cy - half, cy + half, ny_, j0, j1);
+    const std::int32_t f = P.field[p];
+    for (long j = j0; j < j1; ++j) {
+      std::int32_t* row = owner_.data() + j * nx_;
+      for (long i = i0; i < i1; ++i) {
+        const std::int32_t o = row[i];
+        if (o == -1) row[i] = f;
+        else if (o >= 0 && o != f) row[i] = -2, ++shared;
+      }
+    }
+  }
+  return static_cast<double>(shared) * pixel_ * pixel_;
+}
+
+}  // namespace pbx
