@@ -53,3 +53,26 @@ TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {
     EXPECT_EQ(s.analysis.window_hi, quick.analysis.window_hi) << name;
   }
 }
+
+TEST(PaperDecks, EnsembleIsTheQuickStudyOverFiveSeeds) {
+  // ensemble.toml must stay the quick study (its seed-1 runs are quick's runs) with seeds 1-5 and
+  // the same linear window; only snapshots may differ.
+  const StudySpec quick = read_study(kPaper + "quick.toml");
+  const StudySpec ens = read_study(kPaper + "ensemble.toml");
+  ASSERT_EQ(ens.runs.size(), 5 * quick.runs.size());
+  for (const auto& q : quick.runs) {
+    int seeds = 0;
+    for (const auto& r : ens.runs) {
+      if (r.group != q.group || r.value_label != q.value_label) continue;
+      ++seeds;
+      auto strip_seed = [](std::vector<std::pair<std::string, std::string>> v) {
+        std::erase_if(v, [](const auto& kv) { return kv.first == "specimen.seed"; });
+        return v;
+      };
+      EXPECT_EQ(strip_seed(physics_overrides(r)), strip_seed(physics_overrides(q))) << r.id;
+    }
+    EXPECT_EQ(seeds, 5) << q.id;
+  }
+  EXPECT_EQ(ens.analysis.window_lo, quick.analysis.window_lo);
+  EXPECT_EQ(ens.analysis.window_hi, quick.analysis.window_hi);
+}
