@@ -36,13 +36,17 @@ double FieldOverlap::area(const Particles<2>& P) {
   // Pixel k covers [k, k+1) pixels from the origin; its centre k + 1/2 lies in [lo, hi) when
   // ceil(lo - 1/2) <= k < ceil(hi - 1/2). Aligned domains put every edge half a pixel away from
   // the nearest centre, so rounding never decides.
+  // Clamped in floating point before the cast, so a particle far outside the grid cannot overflow
+  // the conversion; a non-finite position or volume is skipped (the solver stops on those).
   auto range = [](double lo, double hi, long n, long& k0, long& k1) {
-    k0 = std::max(0L, static_cast<long>(std::ceil(lo - 0.5)));
-    k1 = std::min(n, static_cast<long>(std::ceil(hi - 0.5)));
+    const double top = static_cast<double>(n);
+    k0 = static_cast<long>(std::clamp(std::ceil(lo - 0.5), 0.0, top));
+    k1 = static_cast<long>(std::clamp(std::ceil(hi - 0.5), 0.0, top));
   };
   for (std::size_t p = 0; p < P.size(); ++p) {
     const double half = 0.5 * std::sqrt(std::max(P.volume[p], 0.0)) * inv;
     const double cx = (P.x[p][0] - origin_[0]) * inv, cy = (P.x[p][1] - origin_[1]) * inv;
+    if (!std::isfinite(cx + cy + half)) continue;
     long i0, i1, j0, j1;
     range(cx - half, cx + half, nx_, i0, i1);
     range(cy - half, cy + half, ny_, j0, j1);

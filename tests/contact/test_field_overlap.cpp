@@ -4,6 +4,7 @@
 // disks pass into each other (which also checks that the position check acts in a scene without
 // rigid bodies: it once compared mass-centre offsets that were only scattered when a die existed).
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -34,6 +35,17 @@ TEST(FieldOverlap, ExactAreaOfTwoOverlappingDomains) {
   EXPECT_NEAR(o.area(P), 1.5e-12, 1e-24);
   P.field[1] = 0;  // the same field: a body overlapping itself is not interpenetration
   EXPECT_EQ(o.area(P), 0.0);
+}
+
+TEST(FieldOverlap, DomainsOutsideTheGridOrNotFiniteAreSkipped) {
+  Grid<2> g = small_grid();
+  Particles<2> P;
+  P.add(Vec<2>(0.0, 10e-6), kSide * kSide, 1e-9, 0, 0);     // [-1, 1] um: half outside the left edge
+  P.add(Vec<2>(0.5e-6, 10e-6), kSide * kSide, 1e-9, 0, 1);  // [-0.5, 1.5]: overlap in the grid [0, 1] x 2 um
+  P.add(Vec<2>(1e300, -1e300), kSide * kSide, 1e-9, 0, 2);  // far away: no overflow
+  P.add(Vec<2>(std::nan(""), 10e-6), kSide * kSide, 1e-9, 0, 3);
+  FieldOverlap o(g, FieldOverlap::default_pixel(P));
+  EXPECT_NEAR(o.area(P), 1e-6 * 2e-6, 1e-24);
 }
 
 TEST(FieldOverlap, PixelCoveredByThreeFieldsCountsOnce) {
