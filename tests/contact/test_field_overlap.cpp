@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "../engine/scene_fixture.hpp"
+#include "two_disks_deck.hpp"
 #include "contact/field_overlap.hpp"
 
 using namespace pbx;
@@ -73,45 +74,10 @@ TEST(FieldOverlap, TiledDomainsOfAlternatingFieldsDoNotOverlap) {
 }
 
 namespace {
-// Two elastic disks (radius 60 um, 10 um cells, 5 um domains) meeting head-on at +-20 m/s on
-// separate fields with frictionless contact; returns the largest overlap growth over the run.
+// The two-disk collision (two_disks_deck.hpp, 5 um domains) with frictionless contact, stopped
+// after the rebound; returns the largest overlap growth over the run.
 double collision_overlap(const std::string& contact_extra) {
-  const std::string deck = R"(
-[run]
-end_time = "4 us"
-history_points = 40
-snapshots = 0
-[grid]
-cell_size = "10 um"
-min = ["-0.2 mm", "-0.05 mm"]
-max = ["0.6 mm", "0.25 mm"]
-[materials.left]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[materials.right]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[contact]
-default = "frictionless"
-)" + contact_extra + R"(
-[[geometry]]
-shape = "disk"
-center = ["0.1 mm", "0.1 mm"]
-radius = "0.06 mm"
-material = "left"
-velocity = ["20 m/s", "0 m/s"]
-[[geometry]]
-shape = "disk"
-center = ["0.3 mm", "0.1 mm"]
-radius = "0.06 mm"
-material = "right"
-velocity = ["-20 m/s", "0 m/s"]
-)";
-  Scene<2> sc = test::scene_from(deck);
+  Scene<2> sc = test::scene_from(test::two_disks_deck("frictionless", "4 us", 40, contact_extra));
   Runner<2> runner(sc, test::quiet());
   double first = -1, most = 0;
   runner.run([&](const Measurement& m) {

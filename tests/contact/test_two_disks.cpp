@@ -9,46 +9,11 @@
 #include <gtest/gtest.h>
 
 #include "../engine/scene_fixture.hpp"
+#include "two_disks_deck.hpp"
 
 using namespace pbx;
 
 namespace {
-std::string deck(const std::string& law) {
-  return R"(
-[run]
-end_time = "12 us"
-history_points = 60
-snapshots = 0
-[grid]
-cell_size = "10 um"
-min = ["-0.2 mm", "-0.05 mm"]
-max = ["0.6 mm", "0.25 mm"]
-[materials.left]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[materials.right]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[contact]
-default = ")" + law + R"("
-[[geometry]]
-shape = "disk"
-center = ["0.1 mm", "0.1 mm"]
-radius = "0.06 mm"
-material = "left"
-velocity = ["20 m/s", "0 m/s"]
-[[geometry]]
-shape = "disk"
-center = ["0.3 mm", "0.1 mm"]
-radius = "0.06 mm"
-material = "right"
-velocity = ["-20 m/s", "0 m/s"]
-)";
-}
 
 struct Outcome {
   double min_gap = std::numeric_limits<double>::max();  // min x(right) - max x(left), m
@@ -56,7 +21,7 @@ struct Outcome {
 };
 
 Outcome collide(const std::string& law) {
-  Scene<2> sc = test::scene_from(deck(law));
+  Scene<2> sc = test::scene_from(test::two_disks_deck(law));
   Runner<2> runner(sc, test::quiet());
   Outcome o;
   double p_scale = 0;
