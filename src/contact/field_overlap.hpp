@@ -2,13 +2,14 @@
 // How far bodies on different velocity fields have passed into each other. Multi-field contact
 // stops approach at shared nodes, but it acts on nodal momenta, not on particle domains, so the
 // domains of two grains can still overlap (contact detected late, or a displacement check set
-// below the touching distance). The measure: every particle's domain drawn as the axis-aligned
-// square of its current area centred on its position (the uGIMP particle domain), on a raster
-// whose pixel is a quarter of the smallest initial particle spacing and is aligned with the grid
-// origin (a rasterised specimen's domains then tile the raster exactly, so a fresh specimen
-// measures zero); the overlap is the area of the pixels whose centres lie in the domains of two or
-// more fields. Squares ignore the shear of the domain (F = R U with U ~ 1 at the strains of a die
-// test); docs/theory/contact.md.
+// below the touching distance). The measure: every particle's domain is its initial square (side
+// sqrt(V0)) carried by its deformation gradient, the parallelogram F * square centred on the
+// particle (the cpGIMP domain; a square of the current area would overlap its neighbours by about
+// s eps / 2 under a uniaxial strain eps even with perfect contact, an error of the order of the
+// quantity measured). The raster's pixel is a quarter of the smallest initial particle spacing and
+// is aligned with the grid origin (a rasterised specimen's domains then tile the raster exactly,
+// so a fresh specimen measures zero); the overlap is the area of the pixels whose centres lie in
+// the domains of two or more fields. docs/theory/contact.md.
 #include <cstdint>
 #include <vector>
 

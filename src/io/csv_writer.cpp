@@ -1,5 +1,7 @@
 #include "io/csv_writer.hpp"
 
+#include <stdexcept>
+
 #include <fmt/format.h>
 
 #include "core/error.hpp"
@@ -33,6 +35,8 @@ CsvWriter::~CsvWriter() {
 }
 
 void CsvWriter::row(const std::vector<double>& values) {
+  if (values.size() != ncol_)
+    throw std::logic_error(fmt::format("history row with {} values for {} columns", values.size(), ncol_));
   std::string line;
   for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format("{}{:.10g}", i ? "," : "", values[i]);
   std::fprintf(f_, "%s\n", line.c_str());

@@ -374,6 +374,14 @@ void Runner<D>::resume(const CheckpointData& c) {
     std::string line, kept;
     for (int i = 0; i <= rows_written_ && std::getline(in, line); ++i) kept += line + "\n";
     in.close();
+    // The appended rows follow this code's columns: a history written by a version with other
+    // columns (e.g. before field_overlap_m2_per_m) would get rows that do not match its header.
+    std::string header;
+    for (std::size_t i = 0; i < columns_.size(); ++i) header += (i ? "," : "") + columns_[i];
+    if (kept.substr(0, kept.find('\n')) != header)
+      throw InputError(fmt::format("restart: the columns of '{}' differ from the ones this version writes "
+                                   "(the checkpoint comes from another code version); rerun from the start",
+                                   file));
     std::ofstream(file) << kept;
     history_ = CsvWriter(file, columns_, true);
   }

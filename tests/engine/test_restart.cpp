@@ -54,5 +54,24 @@ TEST(Restart, RestartedRunEqualsUninterruptedRun) {
   }
   EXPECT_EQ(slurp(dir / "a" / "history.csv"), slurp(dir / "b" / "history.csv"));
   EXPECT_THROW(read_checkpoint((dir / "a" / "history.csv").string()), InputError);
+  // A history written by a version with other columns is refused, not appended to with rows that
+  // do not match its header.
+  {
+    fs::create_directories(dir / "c");
+    std::string text = slurp(dir / "a" / "history.csv");
+    text.insert(text.find('\n'), ",an_old_column");
+    std::ofstream(dir / "c" / "history.csv") << text;
+    Scene<2> sc = test::scene_from(c.deck_text);
+    RunOptions oc = o;
+    oc.out_dir = (dir / "c").string();
+    oc.checkpoint_every = 0;
+    Runner<2> r(sc, oc, true);
+    try {
+      r.resume(c);
+      FAIL() << "a history with other columns must not be resumed";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("columns"), std::string::npos) << e.what();
+    }
+  }
   fs::remove_all(dir);
 }
