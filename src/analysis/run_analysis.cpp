@@ -55,28 +55,40 @@ Json thinned_curve(const StressStrainCurve& c, int target) {
   return j;
 }
 
-// Growth of the field-overlap area over the run against the box area the punch took away
-// (width x displacement): the share of the compaction that went into grains passing into each
-// other instead of closing pores or compressing the solids. Null without the history column.
-Json interpenetration_json(const StressStrainCurve& c, double width, double height, const AnalysisOptions& opt,
-                           std::vector<std::string>& warnings) {
+// Growth of the field-overlap area against the box area the punch took away (width x
+// displacement): the share of the compaction that went into grains passing into each other instead
+// of closing pores or compressing the solids; at the end of the run and at the end of the linear
+// window (the moduli come from the latter). Null without the history column.
+Json interpenetration_json(const StressStrainCurve& c, double width, double height, double window_hi,
+                           const AnalysisOptions& opt, std::vector<std::string>& warnings) {
   if (c.field_overlap.empty() || c.size() == 0) return Json();
   Json j = Json::object();
-  const double a0 = c.field_overlap.front(), a1 = c.field_overlap.back();
-  const double box = width * height, lost = c.strain.back() * box;
+  const double box = width * height, a0 = c.field_overlap.front();
+  auto share_at = [&](std::size_t i) {
+    const double lost = c.strain[i] * box;
+    return std::isfinite(lost) && lost > 0 ? (c.field_overlap[i] - a0) / lost : std::nan("");
+  };
+  std::size_t iw = 0;  // last row inside the linear window
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (c.strain[i] <= window_hi) iw = i;
+  const std::size_t ie = c.size() - 1;
+  const double share_end = share_at(ie), share_window = share_at(iw);
   j.set("overlap_start_m2_per_m", a0);
-  j.set("overlap_end_m2_per_m", a1);
-  j.set("at_strain", c.strain.back());
-  j.set("growth_fraction_of_box", (a1 - a0) / box);
-  const bool have = std::isfinite(lost) && lost > 0;
-  const double share = have ? (a1 - a0) / lost : std::nan("");
-  j.set("share_of_compaction", have ? Json(share) : Json());
+  j.set("overlap_end_m2_per_m", c.field_overlap[ie]);
+  j.set("at_strain", c.strain[ie]);
+  j.set("growth_fraction_of_box", (c.field_overlap[ie] - a0) / box);
+  j.set("share_of_compaction", std::isfinite(share_end) ? Json(share_end) : Json());
+  j.set("share_of_compaction_at_window_end", std::isfinite(share_window) ? Json(share_window) : Json());
+  j.set("window_end_strain", c.strain[iw]);
   j.set("limit", opt.overlap_limit);
-  j.set("flagged", have && share > opt.overlap_limit);
-  if (have && share > opt.overlap_limit) {
+  const double worst = std::fmax(share_end, share_window);  // fmax ignores a NaN side
+  const bool flagged = std::isfinite(worst) && worst > opt.overlap_limit;
+  j.set("flagged", flagged);
+  if (flagged) {
     warnings.push_back(fmt::format("grains pass into each other: the overlap of different fields' particle domains "
-                                   "grows by {:.3g} % of the box area, {:.3g} % of the compaction (limit {:.3g} %)",
-                                   100 * (a1 - a0) / box, 100 * share, 100 * opt.overlap_limit));
+                                   "takes {:.3g} % of the compaction at the end of the linear window and {:.3g} % "
+                                   "at the end of the run (limit {:.3g} %)",
+                                   100 * share_window, 100 * share_end, 100 * opt.overlap_limit));
   }
   return j;
 }
@@ -255,7 +267,7 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
                                    opt.ke_ie_limit));
   }
   j.set("interpenetration", interpenetration_json(c, number_or(spec, "width_m", std::nan("")),
-                                                  number_or(spec, "height_m", std::nan("")), opt, warnings));
+                                                  number_or(spec, "height_m", std::nan("")), w.hi, opt, warnings));
   Json warn = Json::array();
   for (auto& s : warnings) warn.push(s);
   j.set("warnings", warn);

@@ -77,6 +77,8 @@ const Quantity kQuantities[] = {
     {"porosity", {"porosity"}},
     {"ke_ie_max_after_ramp", {"quasi_static", "ke_ie_max_after_ramp"}},
     {"punch_vs_volume_rms_relative", {"agreement", "punch_vs_minus_syy", "rms_relative"}},
+    {"interpenetration_share", {"interpenetration", "share_of_compaction"}},
+    {"interpenetration_share_at_window_end", {"interpenetration", "share_of_compaction_at_window_end"}},
 };
 
 Json hs_json(const HashinShtrikmanBounds& b) {

@@ -29,6 +29,9 @@ struct SyntheticRun {
   std::string status = "finished";
   std::string group = "temperature";
   int seed = 1;
+  // >= 0: a field_overlap_m2_per_m column growing by this share of the compaction (box area the
+  // punch took) from 1e-12 m^2 per m
+  double overlap_share = -1;
 };
 
 inline double synthetic_axial(const SyntheticRun& s, double e) {
@@ -44,7 +47,8 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
   std::ofstream h(dir / "history.csv");
   h << "step,t_s,dt_s,strain,punch_velocity_m_s,punch_force_N_per_m,punch_stress_Pa,wall_left_force_N_per_m,"
        "wall_right_force_N_per_m,wall_bottom_force_N_per_m,wall_stress_Pa,sxx_Pa,syy_Pa,szz_Pa,sxy_Pa,"
-       "kinetic_J_per_m,internal_J_per_m,dissipated_J_per_m,punch_work_J_per_m,ke_ie,extra_contact_N_per_m\n";
+       "kinetic_J_per_m,internal_J_per_m,dissipated_J_per_m,punch_work_J_per_m,ke_ie,extra_contact_N_per_m"
+    << (s.overlap_share >= 0 ? ",field_overlap_m2_per_m\n" : "\n");
   for (int i = 0; i < s.rows; ++i) {
     const double e = s.max_strain * i / (s.rows - 1);
     const double t = e / 250.0;
@@ -53,6 +57,10 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
     h << fmt::format("{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,1,1,0,1,{},0\n",
                      i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl,
                      -sl * (1 + s.vol_bias), -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke_ie);
+    if (s.overlap_share >= 0) {
+      h.seekp(-1, std::ios_base::cur);  // replace the newline
+      h << fmt::format(",{:.12g}\n", 1e-12 + s.overlap_share * e * 1e-3 * 1.2e-3);
+    }
   }
   std::ofstream r(dir / "run.json");
   r << fmt::format(R"({{"status": "{}", "code_version": "synthetic", "temperature_K": {}, "ramp_strain": {},

@@ -96,6 +96,34 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
   fs::remove_all(dir);
 }
 
+TEST(RunAnalysis, InterpenetrationShareAndFlag) {
+  // The overlap grows by a known share of the compaction: the analysis gives it back at the end of
+  // the run and of the linear window, flags it above overlap_limit, and reports null without the
+  // column (runs of older versions, single-field runs).
+  for (double share : {0.10, 0.40}) {
+    const fs::path dir = scratch("overlap" + std::to_string(share));
+    test::SyntheticRun s;
+    s.overlap_share = share;
+    test::write_synthetic_run(dir, s);
+    AnalysisOptions o;
+    o.window_lo = 0.004;
+    o.window_hi = 0.02;
+    const Json j = analyze_run(dir.string(), o);
+    EXPECT_NEAR(at(j, {"interpenetration", "share_of_compaction"}), share, 1e-9);
+    EXPECT_NEAR(at(j, {"interpenetration", "share_of_compaction_at_window_end"}), share, 1e-9);
+    EXPECT_NEAR(at(j, {"interpenetration", "growth_fraction_of_box"}), share * s.max_strain, 1e-9);
+    EXPECT_EQ(j.find("interpenetration")->find("flagged")->as_bool(), share > 0.25);
+    bool warned = false;
+    for (const auto& w : j.find("warnings")->as_array()) warned |= w.as_string().find("pass into each other") != std::string::npos;
+    EXPECT_EQ(warned, share > 0.25);
+    fs::remove_all(dir);
+  }
+  const fs::path dir = scratch("no_overlap");
+  test::write_synthetic_run(dir, test::SyntheticRun{});
+  EXPECT_TRUE(analyze_run(dir.string(), AnalysisOptions{}).find("interpenetration")->is_null());
+  fs::remove_all(dir);
+}
+
 TEST(RunAnalysis, OverriddenWindowAndNamedErrors) {
   test::SyntheticRun s;
   const auto dir = scratch("errors");
