@@ -241,6 +241,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "wall_time_s": {:.4f},
   "particle_updates_per_s": {:.6g},
   "peak_memory_MB": {:.1f},
+  "field_overlap_pixel_m": {},
   "temperature_K": {},
   "mass_scaling": {},
   "ramp_strain": {},
@@ -255,7 +256,8 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
       status, esc, PBXMPM_VERSION, PBXMPM_GIT, D, omp_get_max_threads(), P.size(),
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
       sc_.grid.fields, solver_.step_count(), solver_.time(), wall,
-      wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(), sc_.control.temperature,
+      wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),
+      overlap_ ? fmt::format("{:.6g}", overlap_->pixel()) : std::string("null"), sc_.control.temperature,
       sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen,
       opt_.study_json.empty() ? "null" : opt_.study_json, mats,
       opt_.deck_json.empty() ? "null" : opt_.deck_json);
