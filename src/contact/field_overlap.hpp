@@ -20,7 +20,6 @@ namespace pbx {
 
 class FieldOverlap {
  public:
-  FieldOverlap() = default;
   // Raster over the grid's extent; pixel side in m (> 0).
   FieldOverlap(const Grid<2>& g, double pixel);
   // Area (m^2 per m of depth) covered by the domains of two or more fields. Parts of domains
