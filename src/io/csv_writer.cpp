@@ -13,11 +13,15 @@ CsvWriter::CsvWriter(const std::string& file, const std::vector<std::string>& co
   f_ = std::fopen(file.c_str(), append ? "a" : "w");
   if (!f_) throw InputError(fmt::format("cannot write '{}'", file));
   if (!append) {
-    std::string header;
-    for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i];
-    std::fprintf(f_, "%s\n", header.c_str());
+    std::fprintf(f_, "%s\n", header(columns).c_str());
     std::fflush(f_);
   }
+}
+
+std::string CsvWriter::header(const std::vector<std::string>& columns) {
+  std::string h;
+  for (std::size_t i = 0; i < columns.size(); ++i) h += (i ? "," : "") + columns[i];
+  return h;
 }
 
 CsvWriter& CsvWriter::operator=(CsvWriter&& o) noexcept {

@@ -17,7 +17,9 @@ class CsvWriter {
   CsvWriter(CsvWriter&& o) noexcept : f_(o.f_), ncol_(o.ncol_) { o.f_ = nullptr; }
   CsvWriter& operator=(CsvWriter&& o) noexcept;
   ~CsvWriter();
-  void row(const std::vector<double>& values);
+  void row(const std::vector<double>& values);  // throws std::logic_error on a wrong width
+  // The header line (without newline) this writer puts above the rows.
+  static std::string header(const std::vector<std::string>& columns);
   bool open() const { return f_ != nullptr; }
 
  private:

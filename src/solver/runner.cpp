@@ -378,9 +378,7 @@ void Runner<D>::resume(const CheckpointData& c) {
     in.close();
     // The appended rows follow this code's columns: a history written by a version with other
     // columns (e.g. before field_overlap_m2_per_m) would get rows that do not match its header.
-    std::string header;
-    for (std::size_t i = 0; i < columns_.size(); ++i) header += (i ? "," : "") + columns_[i];
-    if (kept.substr(0, kept.find('\n')) != header)
+    if (kept.substr(0, kept.find('\n')) != CsvWriter::header(columns_))
       throw InputError(fmt::format("restart: the columns of '{}' differ from the ones this version writes "
                                    "(the checkpoint comes from another code version); rerun from the start",
                                    file));
