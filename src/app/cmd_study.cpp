@@ -1,5 +1,7 @@
 // `pbxmpm study DECK`: the paper study (or any sweep) end to end.
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -12,6 +14,7 @@ namespace pbx::app {
 void register_study(CLI::App& app) {
   struct Args {
     std::string deck, out;
+    std::vector<std::string> only;
     int threads = 0;
     bool no_report = false, quiet = false;
   };
@@ -20,6 +23,9 @@ void register_study(CLI::App& app) {
   st->add_option("deck", a->deck, "study deck (TOML with a [study] table)")->required()->check(CLI::ExistingFile);
   st->add_option("--out,-o", a->out, "study directory (default: out/<study name>)");
   st->add_option("--threads,-t", a->threads, "OpenMP threads per run")->check(CLI::PositiveNumber);
+  st->add_option("--only", a->only,
+                 "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run has finished")
+      ->delimiter(',');
   st->add_flag("--no-report", a->no_report, "skip the report at the end");
   st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");
   st->callback([a] {
@@ -29,6 +35,7 @@ void register_study(CLI::App& app) {
     o.threads = a->threads;
     o.report = !a->no_report;
     o.progress = !a->quiet;
+    o.only = a->only;
     const int failed = run_study(s, o);
     if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
   });

@@ -232,6 +232,14 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
   return ss.str();
 }
 
+std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size, int rank) {
+  std::vector<std::size_t> mine;
+  int k = 0;
+  for (std::size_t i = 0; i < pending.size(); ++i)
+    if (pending[i] && k++ % size == rank) mine.push_back(i);
+  return mine;
+}
+
 int run_study(const StudySpec& s, const StudyOptions& opt) {
   Mpi mpi;
   const fs::path out = fs::absolute(opt.out_dir);
@@ -255,28 +263,48 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
                                               << s.analysis_text;
   }
   mpi.barrier();
+  // Which runs this call does: the selected (--only) runs that have not finished, decided before
+  // any run starts so that every rank deals the same list.
+  std::vector<bool> selected(s.runs.size(), opt.only.empty()), pending(s.runs.size(), false);
+  for (const auto& id : opt.only) {
+    std::size_t i = 0;
+    while (i < s.runs.size() && s.runs[i].id != id) ++i;
+    if (i == s.runs.size()) {
+      std::string ids;
+      for (const auto& r : s.runs) ids += (ids.empty() ? "" : ", ") + r.id;
+      throw InputError(fmt::format("study {}: --only names run '{}', which the study does not have (its runs: {})",
+                                   s.name, id, ids));
+    }
+    selected[i] = true;
+  }
+  for (std::size_t i = 0; i < s.runs.size(); ++i) pending[i] = selected[i] && !finished(out / "runs" / s.runs[i].id);
+  const std::vector<std::size_t> todo = runs_of_rank(pending, mpi.size, mpi.rank);
+  // The finished ones are re-analysed (cheap) by rank 0, so that a changed [analysis] table applies to them.
+  std::vector<std::size_t> reused;
+  for (std::size_t i = 0; i < s.runs.size(); ++i)
+    if (selected[i] && !pending[i] && mpi.rank == 0) reused.push_back(i);
+  mpi.barrier();
   // Before the first run starts: a finished run is reused only if the study still gives it the
   // same deck (a changed base deck or override must not be mixed silently with old results), and
   // every other run's deck is built once (specimen included, about a second at 5 um), so that a
   // mistyped override in the last run fails now, not hours into the study.
   int invalid = 0;
-  for (std::size_t i = 0; i < s.runs.size(); ++i) {
-    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) != mpi.rank) continue;
+  for (const std::size_t i : reused) {
     const auto& r = s.runs[i];
     const fs::path dir = out / "runs" / r.id;
-    if (finished(dir)) {
-      std::stringstream was;
-      was << std::ifstream(dir / "deck.toml").rdbuf();
-      const std::string diff = first_difference(was.str(), run_deck_text(s, r));
-      if (!diff.empty()) {
-        ++invalid;
-        std::fprintf(stderr,
-                     "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
-                     "delete %s to run it again, or use another --out\n",
-                     r.id.c_str(), diff.c_str(), dir.c_str());
-      }
-      continue;
+    std::stringstream was;
+    was << std::ifstream(dir / "deck.toml").rdbuf();
+    const std::string diff = first_difference(was.str(), run_deck_text(s, r));
+    if (!diff.empty()) {
+      ++invalid;
+      std::fprintf(stderr,
+                   "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
+                   "delete %s to run it again, or use another --out\n",
+                   r.id.c_str(), diff.c_str(), dir.c_str());
     }
+  }
+  for (const std::size_t i : todo) {
+    const auto& r = s.runs[i];
     try {
       Deck deck = Deck::from_string(run_deck_text(s, r), "deck.toml");
       Scene<2> scene = build_scene<2>(deck);
@@ -293,26 +321,22 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     return invalid;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  int failed = 0, done = 0, mine = 0;
-  for (std::size_t i = 0; i < s.runs.size(); ++i)
-    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) == mpi.rank) ++mine;
-  for (std::size_t i = 0; i < s.runs.size(); ++i) {
-    if (static_cast<int>(i % static_cast<std::size_t>(mpi.size)) != mpi.rank) continue;
+  int failed = 0, done = 0;
+  for (const std::size_t i : reused) {
+    const auto& r = s.runs[i];
+    std::fprintf(stderr, "pbxmpm study: %s already finished, skipped (re-analysed)\n", r.id.c_str());
+    try {
+      analyze_run_to_file((out / "runs" / r.id).string(), s.analysis);
+    } catch (const std::exception& e) {
+      ++failed;
+      std::fprintf(stderr, "pbxmpm study: run %s: analysis failed: %s\n", r.id.c_str(), e.what());
+    }
+  }
+  const int mine = static_cast<int>(todo.size());
+  for (const std::size_t i : todo) {
     const auto& r = s.runs[i];
     const fs::path dir = out / "runs" / r.id;
     ++done;
-    if (finished(dir)) {
-      // re-analysed (cheap) so that a changed [analysis] table applies to finished runs as well
-      std::fprintf(stderr, "pbxmpm study: [%d/%d] %s already finished, skipped (re-analysed)\n", done, mine,
-                   r.id.c_str());
-      try {
-        analyze_run_to_file(dir.string(), s.analysis);
-      } catch (const std::exception& e) {
-        ++failed;
-        std::fprintf(stderr, "pbxmpm study: run %s: analysis failed: %s\n", r.id.c_str(), e.what());
-      }
-      continue;
-    }
     fs::create_directories(dir);
     const std::string text = run_deck_text(s, r);
     { std::ofstream(dir / "deck.toml") << text; }
@@ -345,8 +369,15 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   mpi.barrier();
   if (mpi.rank == 0) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::fprintf(stderr, "pbxmpm study: %zu runs, %d failed, %.0f s\n", s.runs.size(), failed, elapsed);
-    if (opt.report && failed == 0) {
+    int ran = 0;
+    for (const bool p : pending) ran += p;
+    std::fprintf(stderr, "pbxmpm study: %zu runs (%d run now), %d failed, %.0f s\n", s.runs.size(), ran, failed, elapsed);
+    std::string missing;
+    for (const auto& r : s.runs)
+      if (!finished(out / "runs" / r.id)) missing += (missing.empty() ? "" : ", ") + r.id;
+    if (opt.report && failed == 0 && !missing.empty())
+      std::fprintf(stderr, "pbxmpm study: no report yet: runs not finished: %s\n", missing.c_str());
+    if (opt.report && failed == 0 && missing.empty()) {
       ReportOptions rep;
       rep.fits.reuse_analysis = true;
       rep.fits.analysis = s.analysis;

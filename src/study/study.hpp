@@ -1,7 +1,8 @@
 #pragma once
 // A study: one base deck and a list of runs (groups of values of one deck key, times seeds),
-// each run a whole die-compression simulation followed by its analysis. Runs are spread over MPI
-// ranks (rank r takes runs r, r + n, ...; OpenMP inside each run); without MPI they run in turn.
+// each run a whole die-compression simulation followed by its analysis. The runs still to do are
+// spread over MPI ranks (rank r takes the pending runs r, r + n, ...; OpenMP inside each run), so a
+// resumed study keeps every rank busy; without MPI they run in turn.
 // A study that stops can be started again: finished runs (run.json "finished" and analysis.json
 // present) are skipped. Layout: STUDY/study.json, STUDY/runs/<id>/{deck.toml, history.csv,
 // run.json, analysis.json, snapshots/}, STUDY/analysis.toml (the study deck's [analysis] table, read by
@@ -43,7 +44,14 @@ struct StudyOptions {
   int threads = 0;
   bool report = true;
   bool progress = true;
+  // Run only these run ids (empty: all). The others are neither checked nor run; the report is
+  // built only when every run of the study has finished. For studies too long for one sitting.
+  std::vector<std::string> only;
 };
+
+// Indices of the runs rank `rank` of `size` runs: the pending ones (pending[i] true), dealt round
+// robin in study order.
+std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size, int rank);
 
 // Runs (or resumes) the study; returns the number of runs that failed.
 int run_study(const StudySpec& s, const StudyOptions& opt);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -152,5 +153,40 @@ TEST(Study, InvalidRunDeckStopsTheStudyBeforeAnyRun) {
   ASSERT_EQ(s.runs.size(), 2u);
   EXPECT_EQ(run_study(s, o), 1);
   for (const auto& r : s.runs) EXPECT_FALSE(fs::exists(dir / "out" / "runs" / r.id / "history.csv")) << r.id;
+  fs::remove_all(dir);
+}
+
+// The runs still to do are dealt to the ranks in study order, so a resumed study keeps every rank
+// busy (dealing all runs by index would leave rank 1 idle when runs 1 and 3 had finished).
+TEST(Study, PendingRunsAreDealtRoundRobin) {
+  const std::vector<bool> pending = {true, false, true, true, false, true};
+  EXPECT_EQ(runs_of_rank(pending, 2, 0), (std::vector<std::size_t>{0, 3}));
+  EXPECT_EQ(runs_of_rank(pending, 2, 1), (std::vector<std::size_t>{2, 5}));
+  EXPECT_EQ(runs_of_rank(pending, 1, 0), (std::vector<std::size_t>{0, 2, 3, 5}));
+  EXPECT_EQ(runs_of_rank(pending, 5, 4), (std::vector<std::size_t>{}));
+}
+
+// --only runs the named runs alone; the report waits for the others; an unknown id is an error
+// naming it and the study's runs.
+TEST(Study, OnlyRunsTheNamedRunsAndTheReportWaits) {
+  const fs::path dir = make_study();
+  const StudySpec s = read_study((dir / "study.toml").string());
+  ASSERT_EQ(s.runs.size(), 2u);
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.only = {s.runs[1].id};
+  EXPECT_EQ(run_study(s, o), 0);
+  EXPECT_TRUE(fs::exists(dir / "out" / "runs" / s.runs[1].id / "analysis.json"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "runs" / s.runs[0].id));
+  EXPECT_FALSE(fs::exists(dir / "out" / "report"));
+  o.only = {"scaling-nothing-s1"};
+  try {
+    run_study(s, o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'scaling-nothing-s1'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(s.runs[0].id), std::string::npos) << e.what();
+  }
   fs::remove_all(dir);
 }
