@@ -260,7 +260,9 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     e.set("group", c.group);
     e.set("value", c.value);
     e.set("temperature_K", c.T);
-    e.set("density_nominal_kg_m3", c.rho_nominal);
+    // the grouping key of conditions without a study value; with one, the seeds' densities differ
+    // and their mean +- sd is stats.density_kg_m3
+    if (c.value.empty()) e.set("density_nominal_kg_m3", c.rho_nominal);
     Json ids = Json::array();
     for (auto* r : c.runs) ids.push(r->id);
     e.set("runs", ids);

@@ -101,6 +101,8 @@ TEST(StudyReport, SeedsOfOneStudyValueAreOneConditionWhateverTheirDensity) {
   const Json* rho = first.find("stats")->find("density_kg_m3");
   EXPECT_NEAR(rho->find("mean")->as_number(), 1788.5, 1e-9);
   EXPECT_NEAR(rho->find("std")->as_number(), 3 / std::sqrt(2.0), 1e-9);
+  // no "nominal" density: it would be one seed's measured value
+  EXPECT_EQ(first.find("density_nominal_kg_m3"), nullptr);
   if (!HasFailure()) fs::remove_all(dir);
 }
 
