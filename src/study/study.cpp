@@ -78,6 +78,13 @@ struct Mpi {
     if (size > 1) MPI_Barrier(MPI_COMM_WORLD);
 #endif
   }
+  void broadcast(std::vector<char>& v) const {  // rank 0's contents to every rank (same size everywhere)
+#ifdef PBXMPM_HAVE_MPI
+    if (size > 1) MPI_Bcast(v.data(), static_cast<int>(v.size()), MPI_CHAR, 0, MPI_COMM_WORLD);
+#else
+    (void)v;
+#endif
+  }
   int sum(int v) const {
 #ifdef PBXMPM_HAVE_MPI
     if (size > 1) {
@@ -243,6 +250,19 @@ std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size
 int run_study(const StudySpec& s, const StudyOptions& opt) {
   Mpi mpi;
   const fs::path out = fs::absolute(opt.out_dir);
+  // --only names runs of this study (checked before anything is written)
+  std::vector<bool> selected(s.runs.size(), opt.only.empty()), pending(s.runs.size(), false);
+  for (const auto& id : opt.only) {
+    std::size_t i = 0;
+    while (i < s.runs.size() && s.runs[i].id != id) ++i;
+    if (i == s.runs.size()) {
+      std::string ids;
+      for (const auto& r : s.runs) ids += (ids.empty() ? "" : ", ") + r.id;
+      throw InputError(fmt::format("study {}: --only names run '{}', which the study does not have (its runs: {})",
+                                   s.name, id, ids));
+    }
+    selected[i] = true;
+  }
   fs::create_directories(out / "runs");
   // study.json first, so a report can name what is missing from an interrupted study
   if (mpi.rank == 0) {
@@ -263,27 +283,21 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
                                               << s.analysis_text;
   }
   mpi.barrier();
-  // Which runs this call does: the selected (--only) runs that have not finished, decided before
-  // any run starts so that every rank deals the same list.
-  std::vector<bool> selected(s.runs.size(), opt.only.empty()), pending(s.runs.size(), false);
-  for (const auto& id : opt.only) {
-    std::size_t i = 0;
-    while (i < s.runs.size() && s.runs[i].id != id) ++i;
-    if (i == s.runs.size()) {
-      std::string ids;
-      for (const auto& r : s.runs) ids += (ids.empty() ? "" : ", ") + r.id;
-      throw InputError(fmt::format("study {}: --only names run '{}', which the study does not have (its runs: {})",
-                                   s.name, id, ids));
-    }
-    selected[i] = true;
-  }
-  for (std::size_t i = 0; i < s.runs.size(); ++i) pending[i] = selected[i] && !finished(out / "runs" / s.runs[i].id);
+  // Which runs this call does: the selected (--only) runs that have not finished. Rank 0 decides
+  // and tells the others, so every rank deals the same list even where a shared file system shows
+  // the ranks different states of the run folders.
+  std::vector<char> is_finished(s.runs.size(), 0);
+  if (mpi.rank == 0)
+    for (std::size_t i = 0; i < s.runs.size(); ++i) is_finished[i] = finished(out / "runs" / s.runs[i].id);
+  mpi.broadcast(is_finished);
+  for (std::size_t i = 0; i < s.runs.size(); ++i) pending[i] = selected[i] && !is_finished[i];
   const std::vector<std::size_t> todo = runs_of_rank(pending, mpi.size, mpi.rank);
-  // The finished ones are re-analysed (cheap) by rank 0, so that a changed [analysis] table applies to them.
+  // Every finished run, selected or not (the report will use them all), is checked against the
+  // deck the study gives now and re-analysed (cheap) by rank 0, so that a changed [analysis] table
+  // applies to it.
   std::vector<std::size_t> reused;
   for (std::size_t i = 0; i < s.runs.size(); ++i)
-    if (selected[i] && !pending[i] && mpi.rank == 0) reused.push_back(i);
-  mpi.barrier();
+    if (is_finished[i] && mpi.rank == 0) reused.push_back(i);
   // Before the first run starts: a finished run is reused only if the study still gives it the
   // same deck (a changed base deck or override must not be mixed silently with old results), and
   // every other run's deck is built once (specimen included, about a second at 5 um), so that a
@@ -292,15 +306,20 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   for (const std::size_t i : reused) {
     const auto& r = s.runs[i];
     const fs::path dir = out / "runs" / r.id;
-    std::stringstream was;
-    was << std::ifstream(dir / "deck.toml").rdbuf();
-    const std::string diff = first_difference(was.str(), run_deck_text(s, r));
-    if (!diff.empty()) {
+    try {  // an exception here must not leave rank 0 alone: the others wait in the sum below
+      std::stringstream was;
+      was << std::ifstream(dir / "deck.toml").rdbuf();
+      const std::string diff = first_difference(was.str(), run_deck_text(s, r));
+      if (!diff.empty()) {
+        ++invalid;
+        std::fprintf(stderr,
+                     "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
+                     "delete %s to run it again, or use another --out\n",
+                     r.id.c_str(), diff.c_str(), dir.c_str());
+      }
+    } catch (const std::exception& e) {
       ++invalid;
-      std::fprintf(stderr,
-                   "pbxmpm study: run %s finished with a different deck than the study gives now (%s); "
-                   "delete %s to run it again, or use another --out\n",
-                   r.id.c_str(), diff.c_str(), dir.c_str());
+      std::fprintf(stderr, "pbxmpm study: run %s: %s\n", r.id.c_str(), e.what());
     }
   }
   for (const std::size_t i : todo) {
@@ -337,12 +356,11 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const auto& r = s.runs[i];
     const fs::path dir = out / "runs" / r.id;
     ++done;
-    fs::create_directories(dir);
-    const std::string text = run_deck_text(s, r);
-    { std::ofstream(dir / "deck.toml") << text; }
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank, elapsed);
     try {
+      fs::create_directories(dir);
+      { std::ofstream(dir / "deck.toml") << run_deck_text(s, r); }
       Deck deck = Deck::from_file((dir / "deck.toml").string());
       Scene<2> scene = build_scene<2>(deck);
       deck.check_unused();
@@ -371,7 +389,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     int ran = 0;
     for (const bool p : pending) ran += p;
-    std::fprintf(stderr, "pbxmpm study: %zu runs (%d run now), %d failed, %.0f s\n", s.runs.size(), ran, failed, elapsed);
+    std::fprintf(stderr, "pbxmpm study: %zu runs (%d attempted now), %d failed, %.0f s\n", s.runs.size(), ran, failed, elapsed);
     std::string missing;
     for (const auto& r : s.runs)
       if (!finished(out / "runs" / r.id)) missing += (missing.empty() ? "" : ", ") + r.id;

@@ -190,3 +190,30 @@ TEST(Study, OnlyRunsTheNamedRunsAndTheReportWaits) {
   }
   fs::remove_all(dir);
 }
+
+// A resumed study under mpirun shares the runs left between the ranks: with the middle one of
+// three finished, rank 0 takes the first and rank 1 the last (dealing all runs by index would give
+// rank 1 only the finished one and leave it idle). Also: --only under mpirun, and its unknown id.
+TEST(Study, ResumedStudyUnderMpiKeepsBothRanksBusy) {
+  const fs::path dir = make_study("", "[10, 20, 30]");
+  const StudySpec s = read_study((dir / "study.toml").string());
+  ASSERT_EQ(s.runs.size(), 3u);
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  o.only = {s.runs[1].id};
+  ASSERT_EQ(run_study(s, o), 0);
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+  const std::string mpi = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -n 2 " + std::string(PBXMPM_BINARY) +
+                          " study " + (dir / "study.toml").string() + " --out " + (dir / "out").string() + " --quiet --no-report";
+  ASSERT_NE(std::system((mpi + " --only scaling-99-s1 > " + (dir / "bad.log").string() + " 2>&1").c_str()), 0);
+  EXPECT_NE(slurp(dir / "bad.log").find("'scaling-99-s1'"), std::string::npos) << slurp(dir / "bad.log");
+  ASSERT_EQ(std::system((mpi + " > " + (dir / "mpi.log").string() + " 2>&1").c_str()), 0) << slurp(dir / "mpi.log");
+  const std::string log = slurp(dir / "mpi.log");
+  EXPECT_NE(log.find("[1/1] " + s.runs[0].id + " (rank 0"), std::string::npos) << log;
+  EXPECT_NE(log.find("[1/1] " + s.runs[2].id + " (rank 1"), std::string::npos) << log;
+  EXPECT_NE(log.find(s.runs[1].id + " already finished"), std::string::npos) << log;
+  for (const auto& r : s.runs) EXPECT_TRUE(fs::exists(dir / "out" / "runs" / r.id / "analysis.json")) << r.id;
+  if (!HasFailure()) fs::remove_all(dir);
+}
