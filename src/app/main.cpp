@@ -6,6 +6,7 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "pbxmpm_git.hpp"  // PBXMPM_GIT, generated at build time
 
 #ifdef PBXMPM_HAVE_MPI
 #include <mpi.h>

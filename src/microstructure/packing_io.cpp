@@ -13,6 +13,7 @@
 #include "microstructure/packing.hpp"
 #include "microstructure/phase_map.hpp"
 #include "microstructure/png_image.hpp"
+#include "pbxmpm_git.hpp"  // PBXMPM_GIT, generated at build time
 
 namespace pbx {
 

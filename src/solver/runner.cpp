@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "pbxmpm_git.hpp"  // PBXMPM_GIT, generated at build time
 
 namespace pbx {
 
