@@ -44,8 +44,9 @@ struct StudyOptions {
   int threads = 0;
   bool report = true;
   bool progress = true;
-  // Run only these run ids (empty: all). The others are neither checked nor run; the report is
-  // built only when every run of the study has finished. For studies too long for one sitting.
+  // Run only these run ids (empty: all). Unselected unfinished runs are neither checked nor run;
+  // finished runs are always deck-checked and re-analysed; the report is built only when every
+  // run of the study has finished. For studies too long for one sitting.
   std::vector<std::string> only;
 };
 
