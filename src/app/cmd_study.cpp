@@ -15,7 +15,7 @@ void register_study(CLI::App& app) {
   struct Args {
     std::string deck, out;
     std::vector<std::string> only;
-    int threads = 0;
+    int threads = 0, checkpoint_every = 10;
     bool no_report = false, quiet = false;
   };
   auto a = std::make_shared<Args>();
@@ -26,6 +26,11 @@ void register_study(CLI::App& app) {
   st->add_option("--only", a->only,
                  "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run has finished")
       ->delimiter(',');
+  st->add_option("--checkpoint-every", a->checkpoint_every,
+                 "each run writes runs/<id>/checkpoint.h5 every N history rows (0: never); an interrupted run "
+                 "continues from it when the study is started again")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   st->add_flag("--no-report", a->no_report, "skip the report at the end");
   st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");
   st->callback([a] {
@@ -36,6 +41,7 @@ void register_study(CLI::App& app) {
     o.report = !a->no_report;
     o.progress = !a->quiet;
     o.only = a->only;
+    o.checkpoint_every = a->checkpoint_every;
     const int failed = run_study(s, o);
     if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
   });

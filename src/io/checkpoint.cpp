@@ -62,7 +62,9 @@ void write_checkpoint(const std::string& file, const CheckpointData& c) {
   std::filesystem::rename(tmp, file);
 }
 
-CheckpointData read_checkpoint(const std::string& file) {
+namespace {
+// Opens a checkpoint read-only, or throws naming the file when it is missing or not a checkpoint.
+hid_t open_checkpoint(const std::string& file) {
   if (!std::filesystem::exists(file)) throw InputError(fmt::format("checkpoint '{}' does not exist", file));
   H5E_auto2_t old_func;
   void* old_data;
@@ -74,6 +76,19 @@ CheckpointData read_checkpoint(const std::string& file) {
     if (f >= 0) H5Fclose(f);
     throw InputError(fmt::format("'{}' is not a pbxmpm checkpoint", file));
   }
+  return f;
+}
+}  // namespace
+
+std::string read_checkpoint_deck_text(const std::string& file) {
+  hid_t f = open_checkpoint(file);
+  std::string text = read_string(f, "deck_text");
+  H5Fclose(f);
+  return text;
+}
+
+CheckpointData read_checkpoint(const std::string& file) {
+  hid_t f = open_checkpoint(file);
   CheckpointData c;
   c.deck_text = read_string(f, "deck_text");
   c.deck_name = read_string(f, "deck_name");

@@ -16,5 +16,7 @@ struct CheckpointData {
 
 void write_checkpoint(const std::string& file, const CheckpointData& c);
 CheckpointData read_checkpoint(const std::string& file);  // throws InputError
+// The deck text alone (cheap: no particle arrays are read), to check a checkpoint belongs to a deck.
+std::string read_checkpoint_deck_text(const std::string& file);
 
 }  // namespace pbx

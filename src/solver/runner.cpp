@@ -201,7 +201,7 @@ template <int D>
 void Runner<D>::write_run_json(const std::string& status, const std::string& message) const {
   if (opt_.out_dir.empty()) return;
   const auto& P = sc_.particles;
-  const double wall = now_s() - wall_start_;
+  const double wall = wall_before_ + now_s() - wall_start_;
   const double steps = static_cast<double>(solver_.step_count());
   double mass = 0, vol = 0;
   for (std::size_t p = 0; p < P.size(); ++p) {
@@ -240,6 +240,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "steps": {},
   "time_s": {:.10g},
   "wall_time_s": {:.4f},
+  "restarts": {},
   "particle_updates_per_s": {:.6g},
   "peak_memory_MB": {:.1f},
   "field_overlap_pixel_m": {},
@@ -256,7 +257,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
 )J",
       status, esc, PBXMPM_VERSION, PBXMPM_GIT, D, omp_get_max_threads(), P.size(),
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
-      sc_.grid.fields, solver_.step_count(), solver_.time(), wall,
+      sc_.grid.fields, solver_.step_count(), solver_.time(), wall, restarts_,
       wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),
       overlap_ ? fmt::format("{:.6g}", overlap_->pixel()) : std::string("null"), sc_.control.temperature,
       sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen,
@@ -269,8 +270,8 @@ void Runner<D>::report_progress(const Measurement& m, bool final) {
   if (!opt_.progress) return;
   const double frac = std::min(1.0, m.t / sc_.control.end_time);
   const double wall = now_s() - wall_start_;
-  const double rate = wall > 0 ? static_cast<double>(solver_.step_count()) / wall : 0;
-  const double eta = frac > 0 ? wall * (1.0 - frac) / frac : -1;
+  const double rate = wall > 0 ? static_cast<double>(solver_.step_count() - steps_at_start_) / wall : 0;
+  const double eta = frac > frac_at_start_ ? wall * (1.0 - frac) / (frac - frac_at_start_) : -1;
   if (tty_) {
     const int width = 30, fill = static_cast<int>(frac * width);
     std::fprintf(stderr, "\r[%s%s] %5.1f%%  strain %6.3f%%  punch %8.3f MPa  %7.0f steps/s  ETA %s%s",
@@ -299,7 +300,8 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
                {"dissipated", st.dissipated}, {"steps", static_cast<double>(st.steps)},
                {"t_last_row", t_last_row_}, {"punch_work", punch_work_}, {"next_row", static_cast<double>(next_row_)},
                {"next_snapshot", static_cast<double>(next_snapshot_)}, {"rows_written", static_cast<double>(rows_written_)},
-               {"particles", static_cast<double>(P.size())}};
+               {"particles", static_cast<double>(P.size())},
+               {"wall_s", wall_before_ + now_s() - wall_start_}, {"restarts", static_cast<double>(restarts_)}};
   auto flat = [&](const std::string& name, auto const& vec, int comps, auto get) {
     std::vector<double> out;
     out.reserve(vec.size() * static_cast<std::size_t>(comps));
@@ -365,6 +367,9 @@ void Runner<D>::resume(const CheckpointData& c) {
   next_row_ = static_cast<int>(scalar("next_row"));
   next_snapshot_ = static_cast<int>(scalar("next_snapshot"));
   rows_written_ = static_cast<int>(scalar("rows_written"));
+  // absent from checkpoints written before 2026-12-02: their earlier wall time is unknown
+  wall_before_ = c.scalars.count("wall_s") ? c.scalars.at("wall_s") : 0.0;
+  restarts_ = (c.scalars.count("restarts") ? static_cast<int>(c.scalars.at("restarts")) : 0) + 1;
   const auto& snaps = c.arrays.count("snapshots") ? c.arrays.at("snapshots") : std::vector<double>{};
   std::vector<std::pair<double, std::size_t>> w;
   for (std::size_t i = 0; i + 1 < snaps.size(); i += 2) w.emplace_back(snaps[i], static_cast<std::size_t>(snaps[i + 1]));
@@ -393,6 +398,8 @@ template <int D>
 void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
   wall_start_ = now_s();
   const double t_end = sc_.control.end_time;
+  steps_at_start_ = solver_.step_count();
+  frac_at_start_ = std::min(1.0, solver_.time() / t_end);
   const int rows = sc_.control.history_points;
   Measurement last;  // the final progress line shows the last measured state, not an empty one
   auto emit_row = [&] {

@@ -74,6 +74,11 @@ class Runner {
   std::vector<MaterialPair> contact_pairs_;  // material pairs with contact columns in history.csv
   std::optional<FieldOverlap> overlap_;      // 2-D with several deformable fields
   double t_last_row_ = 0, punch_work_ = 0, wall_start_ = 0, last_progress_ = -1, last_progress_wall_ = 0;
+  // A restarted run: wall seconds of its earlier segments (run.json reports the whole run), and
+  // the step and time fraction this segment started at (progress rates count this segment only).
+  double wall_before_ = 0, frac_at_start_ = 0;
+  long steps_at_start_ = 0;
+  int restarts_ = 0;
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;
   bool tty_ = false;

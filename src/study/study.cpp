@@ -17,6 +17,7 @@
 #include "analysis/run_analysis.hpp"
 #include "analysis/study_report.hpp"
 #include "core/error.hpp"
+#include "io/checkpoint.hpp"
 #include "io/deck.hpp"
 #include "solver/runner.hpp"
 
@@ -325,9 +326,22 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   for (const std::size_t i : todo) {
     const auto& r = s.runs[i];
     try {
-      Deck deck = Deck::from_string(run_deck_text(s, r), "deck.toml");
+      const std::string text = run_deck_text(s, r);
+      Deck deck = Deck::from_string(text, "deck.toml");
       Scene<2> scene = build_scene<2>(deck);
       deck.check_unused();
+      // an interrupted run continues from its checkpoint only if the study still gives its deck
+      const fs::path ckpt = out / "runs" / r.id / "checkpoint.h5";
+      if (fs::exists(ckpt)) {
+        const std::string diff = first_difference(read_checkpoint_deck_text(ckpt.string()), text);
+        if (!diff.empty()) {
+          ++invalid;
+          std::fprintf(stderr,
+                       "pbxmpm study: run %s has a checkpoint made from a different deck than the study gives now "
+                       "(%s); delete %s to start the run over\n",
+                       r.id.c_str(), diff.c_str(), ckpt.c_str());
+        }
+      }
     } catch (const std::exception& e) {
       ++invalid;
       std::fprintf(stderr, "pbxmpm study: run %s: %s\n", r.id.c_str(), e.what());
@@ -360,23 +374,36 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank, elapsed);
     try {
       fs::create_directories(dir);
-      { std::ofstream(dir / "deck.toml") << run_deck_text(s, r); }
+      const std::string text = run_deck_text(s, r);
+      { std::ofstream(dir / "deck.toml") << text; }
       Deck deck = Deck::from_file((dir / "deck.toml").string());
       Scene<2> scene = build_scene<2>(deck);
       deck.check_unused();
+      const fs::path ckpt = dir / "checkpoint.h5";
+      const bool restart = fs::exists(ckpt);  // its deck was checked above
       RunOptions ro;
       ro.out_dir = dir.string();
       ro.threads = opt.threads;
       ro.progress = opt.progress;
       ro.deck_json = deck.to_json();
+      ro.deck_text = text;
+      ro.deck_name = (dir / "deck.toml").string();
+      ro.checkpoint_every = opt.checkpoint_every;
       double mass = 0;
       for (double m : scene.particles.mass) mass += m;
       const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
       ro.study_json = fmt::format(R"({{"study": "{}", "id": "{}", "group": "{}", "value": {}, "temperature_K": {}, "density_g_cm3": {:.6g}, "seed": {}}})",
                                   s.name, r.id, r.group, json_quote(r.value_label), scene.control.temperature,
                                   rho / 1000.0, r.seed);
-      Runner<2> runner(scene, ro);
+      Runner<2> runner(scene, ro, restart);
+      if (restart) {
+        const CheckpointData ck = read_checkpoint(ckpt.string());
+        runner.resume(ck);
+        std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s)\n", r.id.c_str(),
+                     ck.scalars.at("steps"), ck.scalars.at("t"));
+      }
       runner.run();
+      fs::remove(ckpt);  // finished: the study never restarts it
       analyze_run_to_file(dir.string(), s.analysis);
     } catch (const std::exception& e) {
       ++failed;

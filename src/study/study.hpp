@@ -4,7 +4,7 @@
 // spread over MPI ranks (rank r takes the pending runs r, r + n, ...; OpenMP inside each run), so a
 // resumed study keeps every rank busy; without MPI they run in turn.
 // A study that stops can be started again: finished runs (run.json "finished" and analysis.json
-// present) are skipped. Layout: STUDY/study.json, STUDY/runs/<id>/{deck.toml, history.csv,
+// present) are skipped, an interrupted run continues from its last checkpoint. Layout: STUDY/study.json, STUDY/runs/<id>/{deck.toml, history.csv,
 // run.json, analysis.json, snapshots/}, STUDY/analysis.toml (the study deck's [analysis] table, read by
 // `pbxmpm report` and `fit study` when no analysis options are given), STUDY/report/.
 #include <string>
@@ -48,6 +48,10 @@ struct StudyOptions {
   // finished runs are always deck-checked and re-analysed; the report is built only when every
   // run of the study has finished. For studies too long for one sitting.
   std::vector<std::string> only;
+  // Each run writes runs/<id>/checkpoint.h5 every this many history rows (0: never); a pending
+  // run that has one (from the same deck) continues from it instead of starting over, and its
+  // checkpoint is deleted when it finishes.
+  int checkpoint_every = 10;
 };
 
 // Indices of the runs rank `rank` of `size` runs: the pending ones (pending[i] true), dealt round

@@ -4,12 +4,14 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
 #include "io/deck.hpp"
+#include "solver/runner.hpp"
 #include "study/study.hpp"
 
 namespace fs = std::filesystem;
@@ -215,5 +217,67 @@ TEST(Study, ResumedStudyUnderMpiKeepsBothRanksBusy) {
   EXPECT_NE(log.find("[1/1] " + s.runs[2].id + " (rank 1"), std::string::npos) << log;
   EXPECT_NE(log.find(s.runs[1].id + " already finished"), std::string::npos) << log;
   for (const auto& r : s.runs) EXPECT_TRUE(fs::exists(dir / "out" / "runs" / r.id / "analysis.json")) << r.id;
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+// A run stopped mid-way (here: by an exception after 23 history rows, with a checkpoint every 5)
+// continues from its checkpoint when the study is started again, and ends with the same
+// history.csv, to the last digit, as the run made in one go; run.json counts the restart and the
+// checkpoint is removed once the run has finished. A checkpoint made from another deck stops the
+// study before any run starts.
+TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
+  const fs::path dir = make_study();
+  const StudySpec s = read_study((dir / "study.toml").string());
+  ASSERT_EQ(s.runs.size(), 2u);
+  const auto& r = s.runs[0];
+  StudyOptions o;
+  o.report = false;
+  o.progress = false;
+  o.only = {r.id};
+  o.out_dir = (dir / "whole").string();
+  o.checkpoint_every = 0;
+  ASSERT_EQ(run_study(s, o), 0);
+  const std::string whole = slurp(dir / "whole" / "runs" / r.id / "history.csv");
+
+  const fs::path cut = dir / "cut" / "runs" / r.id;
+  fs::create_directories(cut);
+  const std::string text = run_deck_text(s, r);
+  std::ofstream(cut / "deck.toml") << text;
+  {
+    Deck deck = Deck::from_file((cut / "deck.toml").string());
+    Scene<2> scene = build_scene<2>(deck);
+    RunOptions ro;
+    ro.out_dir = cut.string();
+    ro.progress = false;
+    ro.deck_text = text;
+    ro.deck_name = (cut / "deck.toml").string();
+    ro.checkpoint_every = 5;
+    Runner<2> runner(scene, ro);
+    int rows = 0;
+    EXPECT_THROW(runner.run([&](const Measurement&) {
+      if (++rows == 23) throw std::runtime_error("stopped");
+    }),
+                 std::runtime_error);
+  }
+  ASSERT_TRUE(fs::exists(cut / "checkpoint.h5"));
+  ASSERT_NE(slurp(cut / "history.csv"), whole);
+  // the other run gets a checkpoint of this run's deck: refused, nothing runs
+  fs::create_directories(dir / "cut" / "runs" / s.runs[1].id);
+  fs::copy_file(cut / "checkpoint.h5", dir / "cut" / "runs" / s.runs[1].id / "checkpoint.h5");
+  o.out_dir = (dir / "cut").string();
+  o.only = {};
+  o.checkpoint_every = 10;
+  EXPECT_EQ(run_study(s, o), 1);
+  EXPECT_FALSE(fs::exists(dir / "cut" / "runs" / s.runs[1].id / "history.csv"));
+  EXPECT_NE(slurp(cut / "history.csv"), whole);
+  fs::remove(dir / "cut" / "runs" / s.runs[1].id / "checkpoint.h5");
+  // the study continues the interrupted run
+  o.only = {r.id};
+  ASSERT_EQ(run_study(s, o), 0);
+  EXPECT_EQ(slurp(cut / "history.csv"), whole);
+  EXPECT_FALSE(fs::exists(cut / "checkpoint.h5"));
+  const std::string run_json = slurp(cut / "run.json");
+  EXPECT_NE(run_json.find("\"restarts\": 1,"), std::string::npos) << run_json;
+  EXPECT_NE(run_json.find("\"status\": \"finished\""), std::string::npos) << run_json;
   if (!HasFailure()) fs::remove_all(dir);
 }
