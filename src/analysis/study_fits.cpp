@@ -123,7 +123,8 @@ std::vector<Phase> paper_phases(double porosity) {
   return ph;
 }
 
-std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOptions& opt) {
+std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOptions& opt,
+                                 std::vector<MissingRun>* missing_runs) {
   const fs::path dir(study_dir);
   const fs::path sj = dir / "study.json";
   if (!fs::is_directory(dir)) throw InputError(fmt::format("study directory '{}' does not exist", study_dir));
@@ -137,21 +138,20 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
     throw InputError(fmt::format("{}: no \"runs\" array (or it is empty)", sj.string()));
   }
   std::vector<std::string> missing;
+  std::vector<MissingRun> left_out;
   std::vector<StudyRun> out;
   for (const auto& e : runs->as_array()) {
     StudyRun r;
     r.entry = e;
     r.id = str(e, "id");
     std::string rel = str(e, "dir", r.id.empty() ? "" : "runs/" + r.id);
-    if (rel.empty()) {
-      missing.push_back("a run entry without \"id\" or \"dir\"");
-      continue;
-    }
+    if (rel.empty()) throw InputError(fmt::format("{}: a run entry without \"id\" or \"dir\"", sj.string()));
     if (r.id.empty()) r.id = fs::path(rel).filename().string();
     const fs::path rd = dir / rel;
     r.dir = fs::absolute(rd).lexically_normal().string();
     if (!fs::is_directory(rd)) {
       missing.push_back(fmt::format("{}/ (run '{}' was not run)", rel, r.id));
+      left_out.push_back({r.id, missing.back()});
       continue;
     }
     bool ok = true;
@@ -174,16 +174,32 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
       ok = false;
     }
     if (ok) out.push_back(std::move(r));
+    else left_out.push_back({r.id, missing.back()});
   }
-  if (!missing.empty()) {
-    throw InputError(fmt::format("study '{}' is incomplete; missing or unfinished:\n  {}", study_dir,
-                                 fmt::join(missing, "\n  ")));
+  if (!missing.empty() && opt.partial && !out.empty()) {
+    if (missing_runs) *missing_runs = left_out;
+  } else if (!missing.empty()) {
+    throw InputError(fmt::format("study '{}' is incomplete; missing or unfinished:\n  {}{}", study_dir,
+                                 fmt::join(missing, "\n  "),
+                                 opt.partial ? "\n(no run is finished, so not even a partial report can be made)"
+                                             : "\n(--partial reports the finished runs alone)"));
   }
   for (auto& r : out) {
     r.analysis = opt.reuse_analysis ? Json::read_file((fs::path(r.dir) / "analysis.json").string())
                                     : analyze_run_to_file(r.dir, opt.analysis);
   }
   return out;
+}
+
+Json missing_runs_json(const std::vector<MissingRun>& missing) {
+  Json a = Json::array();
+  for (const auto& m : missing) {
+    Json e = Json::object();
+    e.set("id", m.id);
+    e.set("why", m.why);
+    a.push(std::move(e));
+  }
+  return a;
 }
 
 Json paper_table3_refit(const std::string& path, double confidence) {

@@ -21,6 +21,9 @@ struct StudyFitOptions {
   std::string paper_values;  // TOML with the paper's Table 3 (default: tools/report/paper_values.toml)
   AnalysisOptions analysis;
   bool reuse_analysis = false;  // use existing analysis.json files instead of re-analysing
+  // Use the finished runs of an incomplete study instead of refusing it; the runs left out are
+  // returned by load_study and named in fits.json ("missing_runs") and at the top of the report.
+  bool partial = false;
 };
 
 struct StudyRun {
@@ -30,11 +33,21 @@ struct StudyRun {
   Json analysis;    // its analysis.json
 };
 
+// A run of study.json that load_study left out, and why.
+struct MissingRun {
+  std::string id, why;
+};
+
 // Reads study.json and checks every run directory; throws one InputError listing everything that
-// is missing or unfinished. Then analyses each run (writing RUN/analysis.json).
-std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOptions& opt);
+// is missing or unfinished (with opt.partial: lists it in `missing` instead, and throws only when
+// no run is usable). Then analyses each run (writing RUN/analysis.json).
+std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOptions& opt,
+                                 std::vector<MissingRun>* missing = nullptr);
 
 Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt);
+
+// [{"id": ..., "why": ...}, ...]: the runs a partial fit or report left out (fits.json "missing_runs").
+Json missing_runs_json(const std::vector<MissingRun>& missing);
 
 // The phases of a run for the Hashin-Shtrikman bounds: run.json "phases" when present, else the
 // paper's Table 1 phases (TATB K = rho0 c0^2, G = 11.5 GPa; F2314 K = 0.33, G = 0.07 GPa) at

@@ -22,8 +22,10 @@ std::string quoted(const std::string& s) {
 }  // namespace
 
 std::string build_report(const std::string& study_dir, const ReportOptions& opt) {
-  const std::vector<StudyRun> runs = load_study(study_dir, opt.fits);
-  const Json fits = fit_study(runs, opt.fits);
+  std::vector<MissingRun> missing;
+  const std::vector<StudyRun> runs = load_study(study_dir, opt.fits, &missing);
+  Json fits = fit_study(runs, opt.fits);
+  if (!missing.empty()) fits.set("missing_runs", missing_runs_json(missing));
   const fs::path out = opt.out_dir.empty() ? fs::path(study_dir) / "report" : fs::path(opt.out_dir);
   fs::create_directories(out);
   fits.write_file((out / "fits.json").string());

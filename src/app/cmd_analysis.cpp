@@ -113,9 +113,12 @@ void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
 struct StudyArgs {
   std::string T0, eq14_window, GU, KU, rho0;
   double confidence = 0.95;
+  bool partial = false;
 };
 
 void add_study_flags(CLI::App* c, StudyArgs& a) {
+  c->add_flag("--partial", a.partial,
+              "use the finished runs of an incomplete study (the others are named in fits.json and the report)");
   c->add_option("--T0", a.T0, "reference temperature of Eq. 13/14 (default 293 K)");
   c->add_option("--eq14-window", a.eq14_window, "Eq. 14 fitting window LO:HI in percent strain (default 0.5:3)");
   c->add_option("--GU", a.GU, "upper-bound shear modulus G^U of Eq. 21 (default 10.84 GPa)");
@@ -137,6 +140,7 @@ void apply_study_flags(const StudyArgs& a, StudyFitOptions& o) {
   if (!a.rho0.empty()) o.rho0 = quantity_option(a.rho0, dim::density, "--rho0");
   if (!(a.confidence > 0 && a.confidence < 1)) throw InputError("--confidence: must lie in (0, 1)");
   o.confidence = a.confidence;
+  o.partial = a.partial;
   if (!(o.T0_K > 0) || !(o.GU > 0) || !(o.KU > 0)) throw InputError("--T0, --GU and --KU must be > 0");
 }
 
@@ -296,7 +300,9 @@ void register_analysis(CLI::App& app) {
     StudyFitOptions o;
     apply_study_flags(*fsa, o);
     o.analysis = analysis_options(with_study_options(*sa));
-    const Json j = fit_study(load_study(sa->dir, o), o);
+    std::vector<MissingRun> missing;
+    Json j = fit_study(load_study(sa->dir, o, &missing), o);
+    if (!missing.empty()) j.set("missing_runs", missing_runs_json(missing));
     const std::string out = oa->out.empty() ? sa->dir + "/fits.json" : oa->out;
     j.write_file(out);
     fmt::print("wrote {}\n", out);

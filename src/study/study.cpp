@@ -421,7 +421,10 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     for (const auto& r : s.runs)
       if (!finished(out / "runs" / r.id)) missing += (missing.empty() ? "" : ", ") + r.id;
     if (opt.report && failed == 0 && !missing.empty())
-      std::fprintf(stderr, "pbxmpm study: no report yet: runs not finished: %s\n", missing.c_str());
+      std::fprintf(stderr,
+                   "pbxmpm study: no report yet: runs not finished: %s (`pbxmpm report %s --partial` reports the "
+                   "finished ones)\n",
+                   missing.c_str(), out.c_str());
     if (opt.report && failed == 0 && missing.empty()) {
       ReportOptions rep;
       rep.fits.reuse_analysis = true;

@@ -133,3 +133,29 @@ TEST(StudyReport, IncompleteStudyNamesWhatIsMissing) {
   }
   fs::remove_all(dir);
 }
+
+// --partial reports the finished runs of an incomplete study, names the others in fits.json and
+// at the top of the report, and still refuses a study with no finished run.
+TEST(StudyReport, PartialReportUsesTheFinishedRunsAndNamesTheOthers) {
+  const fs::path dir = make_study("partial");
+  fs::remove_all(dir / "runs" / "rho1839_s1");
+  { std::ofstream(dir / "runs" / "T353_s1" / "run.json") << R"({"status": "running"})"; }
+  ReportOptions opt;
+  opt.fits.partial = true;
+  build_report(dir.string(), opt);
+  const Json fits = Json::read_file((dir / "report" / "fits.json").string());
+  const Json* left = fits.find("missing_runs");
+  ASSERT_NE(left, nullptr);
+  ASSERT_EQ(left->as_array().size(), 2u);
+  EXPECT_EQ(left->as_array()[0].find("id")->as_string(), "T353_s1");
+  EXPECT_EQ(left->as_array()[1].find("id")->as_string(), "rho1839_s1");
+  std::ifstream md(dir / "report" / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("(partial)"), std::string::npos);
+  EXPECT_NE(text.find("PARTIAL REPORT: 6 of 8 runs"), std::string::npos) << text.substr(0, 600);
+  EXPECT_NE(text.find("rho1839_s1"), std::string::npos);
+  // no finished run at all: an error even with --partial
+  for (const auto& e : fs::directory_iterator(dir / "runs")) fs::remove(e.path() / "run.json");
+  EXPECT_THROW(build_report(dir.string(), opt), InputError);
+  if (!HasFailure()) fs::remove_all(dir);
+}

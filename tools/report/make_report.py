@@ -139,10 +139,19 @@ def load(study_dir, out):
         fail(f"{sj}: missing")
     with open(sj) as f:
         study = json.load(f)
+    fits_path = os.path.join(out, "fits.json")
+    fits = {}
+    if os.path.exists(fits_path):
+        with open(fits_path) as f:
+            fits = json.load(f)
+    # a partial report (pbxmpm report --partial) leaves out the runs fits.json names
+    left_out = {m.get("id") for m in fits.get("missing_runs", [])}
     runs = []
     missing = []
     for e in study.get("runs", []):
         rid = e.get("id") or os.path.basename(e.get("dir", ""))
+        if rid in left_out:
+            continue
         d = os.path.join(study_dir, e.get("dir", f"runs/{rid}"))
         a = os.path.join(d, "analysis.json")
         if not os.path.exists(a):
@@ -150,13 +159,10 @@ def load(study_dir, out):
             continue
         with open(a) as f:
             runs.append({"id": rid, "dir": d, "entry": e, "a": json.load(f)})
-    fits_path = os.path.join(out, "fits.json")
     if not os.path.exists(fits_path):
         missing.append(fits_path)
     if missing:
         fail("missing (run `pbxmpm report`, which writes them first): " + ", ".join(missing))
-    with open(fits_path) as f:
-        fits = json.load(f)
     return study, runs, fits
 
 
@@ -236,6 +242,11 @@ def main():
     T0 = get(fits, "eq13", "T0_K", default=293.0)
     nseeds = max([len(c.get("runs", [])) for c in conds] or [1])
 
+    left_out = fits.get("missing_runs", [])
+    if left_out:
+        rep.p(f"PARTIAL REPORT: {len(runs)} of {len(runs) + len(left_out)} runs; left out (not finished): " +
+              "; ".join(f"{m.get('id')} ({m.get('why')})" for m in left_out) +
+              ". Fits, trends and tables below use only the runs present.")
     versions = sorted({str(get(r["a"], "code_version", default="?")) for r in runs})
     rep.p(f"Study '{study.get('name', '?')}': {len(runs)} runs, {len(conds)} conditions, up to {nseeds} seed(s) "
           f"per condition; code version(s): {', '.join(versions)}. Values are mean ± standard deviation over seeds "
@@ -588,7 +599,8 @@ def main():
     else:
         rep.p("Model card not written: Eq. 13 or Eq. 14 could not be fitted from this study.")
 
-    rep.write(f"pbxmpm report: {study.get('name', os.path.basename(os.path.abspath(args.study)))}")
+    rep.write(f"pbxmpm report: {study.get('name', os.path.basename(os.path.abspath(args.study)))}" +
+              (" (partial)" if left_out else ""))
     print(f"make_report: wrote {out}/report.md, report.html and {len(glob.glob(os.path.join(out, '*.png')))} figures")
 
 
