@@ -265,27 +265,37 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
       opt_.deck_json.empty() ? "null" : opt_.deck_json);
 }
 
+double study_eta_s(double wall_s, double frac, double frac_at_start, int runs_after) {
+  if (!(frac > frac_at_start) || !(wall_s > 0)) return -1;
+  const double whole_run = wall_s / (frac - frac_at_start);
+  return whole_run * (1.0 - frac) + runs_after * whole_run;
+}
+
 template <int D>
 void Runner<D>::report_progress(const Measurement& m, bool final) {
   if (!opt_.progress) return;
   const double frac = std::min(1.0, m.t / sc_.control.end_time);
   const double wall = now_s() - wall_start_;
   const double rate = wall > 0 ? static_cast<double>(solver_.step_count() - steps_at_start_) / wall : 0;
-  const double eta = frac > frac_at_start_ ? wall * (1.0 - frac) / (frac - frac_at_start_) : -1;
+  const double eta = study_eta_s(wall, frac, frac_at_start_, 0);
+  const std::string study =
+      opt_.progress_label.empty()
+          ? std::string()
+          : fmt::format("  ({}, study ETA {})", opt_.progress_label, hms(study_eta_s(wall, frac, frac_at_start_, opt_.runs_after)));
   if (tty_) {
     const int width = 30, fill = static_cast<int>(frac * width);
-    std::fprintf(stderr, "\r[%s%s] %5.1f%%  strain %6.3f%%  punch %8.3f MPa  %7.0f steps/s  ETA %s%s",
+    std::fprintf(stderr, "\r[%s%s] %5.1f%%  strain %6.3f%%  punch %8.3f MPa  %7.0f steps/s  ETA %s%s%s",
                  std::string(static_cast<std::size_t>(fill), '#').c_str(),
                  std::string(static_cast<std::size_t>(width - fill), ' ').c_str(), 100 * frac, 100 * m.strain,
-                 m.punch_stress / 1e6, rate, hms(eta).c_str(), final ? "\n" : "");
+                 m.punch_stress / 1e6, rate, hms(eta).c_str(), study.c_str(), final ? "\n" : "");
     std::fflush(stderr);
   } else if (final || frac - last_progress_ >= 0.1 || wall - last_progress_wall_ >= 60.0) {
     // every 10 % or every minute, whichever comes first: a multi-hour run in a log file (no
     // terminal) must still show it is alive
     last_progress_ = frac;
     last_progress_wall_ = wall;
-    std::fprintf(stderr, "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s\n",
-                 100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str());
+    std::fprintf(stderr, "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s%s\n",
+                 100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str(), study.c_str());
   }
 }
 

@@ -42,7 +42,16 @@ struct RunOptions {
   std::string study_json;       // {"group": ..., ...} when the run belongs to a study
   std::string deck_text, deck_name;  // stored in checkpoints to rebuild the scene on restart
   int checkpoint_every = 0;     // write DIR/checkpoint.h5 every this many history rows (0 = never)
+  // In a study: the run's place ("run 2/4"), shown in the progress lines with the ETA of the
+  // study (this run's ETA plus `runs_after` more runs as long as this one is taking).
+  std::string progress_label;
+  int runs_after = 0;
 };
+
+// Seconds until the study ends: the current run's remaining time plus `runs_after` runs of the
+// length this one is projected to have, from `wall_s` spent since the fraction `frac_at_start`
+// of the run (a restart) to `frac`; negative when not yet known.
+double study_eta_s(double wall_s, double frac, double frac_at_start, int runs_after);
 
 template <int D>
 class Runner {

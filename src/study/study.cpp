@@ -389,6 +389,9 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       ro.deck_text = text;
       ro.deck_name = (dir / "deck.toml").string();
       ro.checkpoint_every = opt.checkpoint_every;
+      ro.progress_label = mpi.size > 1 ? fmt::format("run {}/{} of rank {}", done, mine, mpi.rank)
+                                       : fmt::format("run {}/{}", done, mine);
+      ro.runs_after = mine - done;
       double mass = 0;
       for (double m : scene.particles.mass) mass += m;
       const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;

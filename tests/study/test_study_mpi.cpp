@@ -281,3 +281,13 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
   EXPECT_NE(run_json.find("\"status\": \"finished\""), std::string::npos) << run_json;
   if (!HasFailure()) fs::remove_all(dir);
 }
+
+// The study ETA in the progress lines: this run's remaining time plus the runs still to come at
+// this run's projected length; a restarted run projects from the part made since the restart.
+TEST(Study, EtaCountsTheRunsStillToComeAtThisRunsPace) {
+  EXPECT_DOUBLE_EQ(study_eta_s(100, 0.25, 0, 0), 300);          // 400 s per run, 3/4 to go
+  EXPECT_DOUBLE_EQ(study_eta_s(100, 0.25, 0, 2), 300 + 800);    // and two more runs
+  EXPECT_DOUBLE_EQ(study_eta_s(100, 0.75, 0.5, 1), 100 + 400);  // restarted at 50 %: 400 s per run
+  EXPECT_LT(study_eta_s(0, 0, 0, 3), 0);                        // nothing measured yet: unknown
+  EXPECT_LT(study_eta_s(10, 0.5, 0.5, 3), 0);
+}
