@@ -40,6 +40,7 @@ void write_checkpoint(const std::string& file, const CheckpointData& c) {
   if (f < 0) throw InputError(fmt::format("cannot write checkpoint '{}'", file));
   write_string(f, "deck_text", c.deck_text);
   write_string(f, "deck_name", c.deck_name);
+  write_string(f, "code_versions", c.code_versions);
   write_string(f, "format", "pbxmpm-checkpoint-1");
   hid_t gs = H5Gcreate2(f, "scalars", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   for (const auto& [k, v] : c.scalars) {
@@ -92,6 +93,7 @@ CheckpointData read_checkpoint(const std::string& file) {
   CheckpointData c;
   c.deck_text = read_string(f, "deck_text");
   c.deck_name = read_string(f, "deck_name");
+  if (H5Aexists(f, "code_versions") > 0) c.code_versions = read_string(f, "code_versions");
   hid_t gs = H5Gopen2(f, "scalars", H5P_DEFAULT);
   H5O_info_t info;
   H5Oget_info2(gs, &info, H5O_INFO_NUM_ATTRS);

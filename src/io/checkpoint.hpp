@@ -10,6 +10,7 @@ namespace pbx {
 
 struct CheckpointData {
   std::string deck_text, deck_name;
+  std::string code_versions;  // of the run's segments so far, "; "-separated ("" before 2026-12-02)
   std::map<std::string, double> scalars;               // clock, energies, runner state
   std::map<std::string, std::vector<double>> arrays;   // flattened particle/material arrays
 };

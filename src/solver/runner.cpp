@@ -198,11 +198,17 @@ void Runner<D>::write_snapshot() {
 }
 
 template <int D>
+std::string Runner<D>::this_and_earlier_versions() const {
+  const std::string now = fmt::format("{} ({})", PBXMPM_VERSION, PBXMPM_GIT);
+  return code_versions_.empty() ? now : code_versions_ + "; " + now;
+}
+
+template <int D>
 void Runner<D>::write_run_json(const std::string& status, const std::string& message) const {
   if (opt_.out_dir.empty()) return;
   const auto& P = sc_.particles;
   const double wall = wall_before_ + now_s() - wall_start_;
-  const double steps = static_cast<double>(solver_.step_count());
+  const double steps = static_cast<double>(solver_.step_count() - steps_unclocked_);
   double mass = 0, vol = 0;
   for (std::size_t p = 0; p < P.size(); ++p) {
     mass += P.mass[p];
@@ -225,12 +231,16 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
     if (c == '\n') { esc += "\\n"; continue; }
     esc += c;
   }
-  std::ofstream f(std::filesystem::path(opt_.out_dir) / "run.json");
+  // written under a temporary name, then renamed: a report made while the run goes never reads
+  // a half-written file
+  const auto file = std::filesystem::path(opt_.out_dir) / "run.json";
+  std::ofstream f(file.string() + ".tmp");
   f << fmt::format(
       R"J({{
   "status": "{}",
   "message": "{}",
   "code_version": "{} ({})",
+  "segment_code_versions": "{}",
   "dimension": {},
   "threads": {},
   "particles": {},
@@ -255,7 +265,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "deck": {}
 }}
 )J",
-      status, esc, PBXMPM_VERSION, PBXMPM_GIT, D, omp_get_max_threads(), P.size(),
+      status, esc, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), D, omp_get_max_threads(), P.size(),
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
       sc_.grid.fields, solver_.step_count(), solver_.time(), wall, restarts_,
       wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),
@@ -263,6 +273,8 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
       sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen,
       opt_.study_json.empty() ? "null" : opt_.study_json, mats,
       opt_.deck_json.empty() ? "null" : opt_.deck_json);
+  f.close();
+  std::filesystem::rename(file.string() + ".tmp", file);
 }
 
 double study_eta_s(double wall_s, double frac, double frac_at_start, int runs_after) {
@@ -305,6 +317,7 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
   CheckpointData c;
   c.deck_text = opt_.deck_text;
   c.deck_name = opt_.deck_name;
+  c.code_versions = this_and_earlier_versions();
   const auto st = solver_.state();
   c.scalars = {{"t", st.t}, {"dt", st.dt}, {"cmax", st.cmax}, {"vmax", st.vmax}, {"internal", st.internal},
                {"dissipated", st.dissipated}, {"steps", static_cast<double>(st.steps)},
@@ -377,8 +390,11 @@ void Runner<D>::resume(const CheckpointData& c) {
   next_row_ = static_cast<int>(scalar("next_row"));
   next_snapshot_ = static_cast<int>(scalar("next_snapshot"));
   rows_written_ = static_cast<int>(scalar("rows_written"));
-  // absent from checkpoints written before 2026-12-02: their earlier wall time is unknown
+  // absent from checkpoints written before 2026-12-02: their earlier wall time is unknown, so
+  // the rates count only the steps made since
   wall_before_ = c.scalars.count("wall_s") ? c.scalars.at("wall_s") : 0.0;
+  steps_unclocked_ = c.scalars.count("wall_s") ? 0 : st.steps;
+  code_versions_ = c.code_versions.empty() ? "unknown" : c.code_versions;
   restarts_ = (c.scalars.count("restarts") ? static_cast<int>(c.scalars.at("restarts")) : 0) + 1;
   const auto& snaps = c.arrays.count("snapshots") ? c.arrays.at("snapshots") : std::vector<double>{};
   std::vector<std::pair<double, std::size_t>> w;
@@ -390,8 +406,12 @@ void Runner<D>::resume(const CheckpointData& c) {
     std::ifstream in(file);
     if (!in) throw InputError(fmt::format("restart: '{}' is missing", file));
     std::string line, kept;
-    for (int i = 0; i <= rows_written_ && std::getline(in, line); ++i) kept += line + "\n";
+    int lines = 0;
+    for (; lines <= rows_written_ && std::getline(in, line); ++lines) kept += line + "\n";
     in.close();
+    if (lines != rows_written_ + 1)
+      throw InputError(fmt::format("restart: '{}' has {} rows, the checkpoint was written after {}", file,
+                                   std::max(0, lines - 1), rows_written_));
     // The appended rows follow this code's columns: a history written by a version with other
     // columns (e.g. before field_overlap_m2_per_m) would get rows that do not match its header.
     if (kept.substr(0, kept.find('\n')) != CsvWriter::header(columns_))
@@ -455,6 +475,10 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
       write_snapshot();
     } catch (...) {
     }
+    write_run_json("failed", e.what());
+    throw;
+  } catch (const std::exception& e) {  // e.g. a checkpoint or snapshot that could not be written
+    if (opt_.progress && tty_) std::fprintf(stderr, "\n");
     write_run_json("failed", e.what());
     throw;
   }

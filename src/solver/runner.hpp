@@ -73,6 +73,7 @@ class Runner {
 
  private:
   void write_run_json(const std::string& status, const std::string& message) const;
+  std::string this_and_earlier_versions() const;  // code versions of all segments, "; "-separated
   void report_progress(const Measurement& m, bool final);
   Scene<D>& sc_;
   RunOptions opt_;
@@ -87,7 +88,9 @@ class Runner {
   // the step and time fraction this segment started at (progress rates count this segment only).
   double wall_before_ = 0, frac_at_start_ = 0;
   long steps_at_start_ = 0;
+  long steps_unclocked_ = 0;  // steps made before a checkpoint that did not record its wall time
   int restarts_ = 0;
+  std::string code_versions_;  // of the earlier segments, then this one
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;
   bool tty_ = false;

@@ -398,16 +398,44 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       ro.study_json = fmt::format(R"({{"study": "{}", "id": "{}", "group": "{}", "value": {}, "temperature_K": {}, "density_g_cm3": {:.6g}, "seed": {}}})",
                                   s.name, r.id, r.group, json_quote(r.value_label), scene.control.temperature,
                                   rho / 1000.0, r.seed);
-      Runner<2> runner(scene, ro, restart);
+      // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
+      // it, history columns of another code version) is set aside and the run starts over.
+      bool resumed = false;
       if (restart) {
-        const CheckpointData ck = read_checkpoint(ckpt.string());
-        runner.resume(ck);
-        std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s)\n", r.id.c_str(),
-                     ck.scalars.at("steps"), ck.scalars.at("t"));
+        Runner<2> runner(scene, ro, true);
+        CheckpointData ck;
+        try {
+          ck = read_checkpoint(ckpt.string());
+          runner.resume(ck);
+          resumed = true;
+        } catch (const InputError& e) {
+          const fs::path aside = dir / "checkpoint.unusable.h5";
+          fs::rename(ckpt, aside);
+          std::fprintf(stderr, "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
+                       r.id.c_str(), e.what(), aside.c_str());
+        }
+        if (resumed) {
+          std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s, segments: %s)\n",
+                       r.id.c_str(), ck.scalars.at("steps"), ck.scalars.at("t"),
+                       ck.code_versions.empty() ? "code version not recorded" : ck.code_versions.c_str());
+          runner.run();
+        }
       }
-      runner.run();
+      if (!resumed) {
+        if (restart) {  // the failed resume may have changed the scene: build it again
+          Deck again = Deck::from_file((dir / "deck.toml").string());
+          scene = build_scene<2>(again);
+        }
+        Runner<2> runner(scene, ro);
+        runner.run();
+      }
       fs::remove(ckpt);  // finished: the study never restarts it
       analyze_run_to_file(dir.string(), s.analysis);
+    } catch (const InstabilityError& e) {
+      // the run would fail the same way from its checkpoint: a rerun (after a fix) starts it over
+      ++failed;
+      fs::remove(dir / "checkpoint.h5");
+      std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
     } catch (const std::exception& e) {
       ++failed;
       std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());

@@ -279,6 +279,51 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
   const std::string run_json = slurp(cut / "run.json");
   EXPECT_NE(run_json.find("\"restarts\": 1,"), std::string::npos) << run_json;
   EXPECT_NE(run_json.find("\"status\": \"finished\""), std::string::npos) << run_json;
+  EXPECT_NE(run_json.find("; 0."), std::string::npos) << "two segments' code versions: " << run_json;
+
+  // a checkpoint that cannot be continued (its history.csv lost rows) is set aside and the run
+  // starts over, ending with the same history
+  const fs::path cut2 = dir / "cut2" / "runs" / r.id;
+  fs::create_directories(cut2);
+  std::ofstream(cut2 / "deck.toml") << text;
+  {
+    Deck deck = Deck::from_file((cut2 / "deck.toml").string());
+    Scene<2> scene = build_scene<2>(deck);
+    RunOptions ro;
+    ro.out_dir = cut2.string();
+    ro.progress = false;
+    ro.deck_text = text;
+    ro.checkpoint_every = 5;
+    Runner<2> runner(scene, ro);
+    int rows = 0;
+    EXPECT_THROW(runner.run([&](const Measurement&) {
+      if (++rows == 12) throw std::runtime_error("stopped");
+    }),
+                 std::runtime_error);
+  }
+  {
+    std::istringstream in(slurp(cut2 / "history.csv"));
+    std::string line, head;
+    for (int i = 0; i < 4 && std::getline(in, line); ++i) head += line + "\n";
+    std::ofstream(cut2 / "history.csv") << head;  // header and 3 rows; the checkpoint had 10
+  }
+  o.out_dir = (dir / "cut2").string();
+  ASSERT_EQ(run_study(s, o), 0);
+  EXPECT_EQ(slurp(cut2 / "history.csv"), whole);
+  EXPECT_TRUE(fs::exists(cut2 / "checkpoint.unusable.h5"));
+  EXPECT_NE(slurp(cut2 / "run.json").find("\"restarts\": 0,"), std::string::npos);
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+// Without a terminal, the progress lines of a study's runs name the run and the study's ETA.
+TEST(Study, ProgressLinesNameTheRunAndTheStudyEta) {
+  const fs::path dir = make_study();
+  const std::string cmd = "OMP_NUM_THREADS=1 " + std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() +
+                          " --out " + (dir / "out").string() + " --no-report > " + (dir / "log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "log");
+  const std::string log = slurp(dir / "log");
+  EXPECT_NE(log.find("(run 1/2, study ETA "), std::string::npos) << log;
+  EXPECT_NE(log.find("(run 2/2, study ETA "), std::string::npos) << log;
   if (!HasFailure()) fs::remove_all(dir);
 }
 
