@@ -1,4 +1,5 @@
 // `pbxmpm study DECK`: the paper study (or any sweep) end to end.
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "study/study.hpp"
+#include "study/study_status.hpp"
 
 namespace pbx::app {
 
@@ -45,6 +47,11 @@ void register_study(CLI::App& app) {
     const int failed = run_study(s, o);
     if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
   });
+
+  auto dir = std::make_shared<std::string>();
+  auto* status = app.add_subcommand("status", "Where each run of a study stands (finished, started, checkpoint, not started)");
+  status->add_option("STUDY_DIR", *dir, "study directory (study.json, runs/<id>/)")->required();
+  status->callback([dir] { std::fputs(format_study_status(study_status(*dir), *dir).c_str(), stdout); });
 }
 
 }  // namespace pbx::app

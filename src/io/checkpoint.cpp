@@ -79,16 +79,9 @@ hid_t open_checkpoint(const std::string& file) {
   }
   return f;
 }
-}  // namespace
 
-std::string read_checkpoint_deck_text(const std::string& file) {
-  hid_t f = open_checkpoint(file);
-  std::string text = read_string(f, "deck_text");
-  H5Fclose(f);
-  return text;
-}
-
-CheckpointData read_checkpoint(const std::string& file) {
+// The whole checkpoint, or (arrays = false) all but the particle arrays.
+CheckpointData read_parts(const std::string& file, bool arrays) {
   hid_t f = open_checkpoint(file);
   CheckpointData c;
   c.deck_text = read_string(f, "deck_text");
@@ -109,7 +102,7 @@ CheckpointData read_checkpoint(const std::string& file) {
   H5Gclose(gs);
   H5G_info_t ginfo;
   H5Gget_info(f, &ginfo);
-  for (hsize_t i = 0; i < ginfo.nlinks; ++i) {
+  for (hsize_t i = 0; arrays && i < ginfo.nlinks; ++i) {
     char name[256];
     H5Lget_name_by_idx(f, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
     if (std::string(name) == "scalars") continue;
@@ -126,5 +119,10 @@ CheckpointData read_checkpoint(const std::string& file) {
   H5Fclose(f);
   return c;
 }
+}  // namespace
+
+CheckpointData read_checkpoint_header(const std::string& file) { return read_parts(file, false); }
+
+CheckpointData read_checkpoint(const std::string& file) { return read_parts(file, true); }
 
 }  // namespace pbx

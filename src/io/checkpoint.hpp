@@ -17,7 +17,8 @@ struct CheckpointData {
 
 void write_checkpoint(const std::string& file, const CheckpointData& c);
 CheckpointData read_checkpoint(const std::string& file);  // throws InputError
-// The deck text alone (cheap: no particle arrays are read), to check a checkpoint belongs to a deck.
-std::string read_checkpoint_deck_text(const std::string& file);
+// Everything but the particle arrays (cheap: a few kB of a file of hundreds of MB): to check a
+// checkpoint belongs to a deck, or to say how far its run got.
+CheckpointData read_checkpoint_header(const std::string& file);
 
 }  // namespace pbx

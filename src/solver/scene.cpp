@@ -166,10 +166,12 @@ Scene<D> build_scene(const Deck& deck) {
     gmin = Vec<D>::Constant(-pad);
     gmax[0] = die.width + pad;
     gmax[1] = die.height + pad;
-    // the punch moves through end_strain * height
+    // the punch moves through end_strain * height: ramp_strain * height during the (1 - cos) ramp
+    // of duration t_ramp (at half the final speed on average), the rest at full speed. (Before
+    // 2026-12-02 the ramp was counted as t_ramp / 2, and runs ended ramp_strain short.)
     const double stroke = sc.control.end_strain * die.height;
     const double t_ramp = die.punch_velocity > 0 ? 2.0 * die.ramp_strain * die.height / die.punch_velocity : 0;
-    sc.control.end_time = t_ramp / 2 + (stroke - die.ramp_strain * die.height) / die.punch_velocity;
+    sc.control.end_time = t_ramp + (stroke - die.ramp_strain * die.height) / die.punch_velocity;
     if (die.ramp_strain >= sc.control.end_strain) run.fail("end_strain", "must exceed die.ramp_strain");
     sc.die = die;
   } else {

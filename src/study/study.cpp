@@ -333,7 +333,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       // an interrupted run continues from its checkpoint only if the study still gives its deck
       const fs::path ckpt = out / "runs" / r.id / "checkpoint.h5";
       if (fs::exists(ckpt)) {
-        const std::string diff = first_difference(read_checkpoint_deck_text(ckpt.string()), text);
+        const std::string diff = first_difference(read_checkpoint_header(ckpt.string()).deck_text, text);
         if (!diff.empty()) {
           ++invalid;
           std::fprintf(stderr,

@@ -45,8 +45,11 @@ double wall(const Measurement& m) { return m.wall_stress; }
 
 TEST(DieBlock, ConstrainedModulusLateralRatioAndQuasiStatic) {
   for (const char* integ : {"musl", "usl", "usf"}) {
-    Curve c = run_block(100, 0.04, integ);
-    const double Mfit = slope(c, 0.01, 0.04, punch), Lfit = slope(c, 0.01, 0.04, wall);
+    // to 3.6 % strain: beyond it USF's lateral ratio drifts out of the 2 % band (2.2 % over 1-4 %;
+    // docs/architecture.md, MUSL/USF lateral instability); the tests ran to 3.6 % before the
+    // end-time fix of 2026-12-02 as well, when end_strain 0.04 stopped 0.4 % short
+    Curve c = run_block(100, 0.036, integ);
+    const double Mfit = slope(c, 0.01, 0.036, punch), Lfit = slope(c, 0.01, 0.036, wall);
     EXPECT_NEAR(Mfit, M, 0.01 * M) << integ;
     EXPECT_NEAR(Lfit / Mfit, LAMBDA / M, 0.02 * LAMBDA / M) << integ;  // nu/(1-nu)
     for (auto& m : c.rows) {
@@ -55,6 +58,19 @@ TEST(DieBlock, ConstrainedModulusLateralRatioAndQuasiStatic) {
       EXPECT_LT(m.ke_ie, 0.05) << integ << " at strain " << m.strain;
     }
   }
+}
+
+// The run stops where the deck says: punch displacement / height = end_strain at the last row
+// (the ramp's distance is counted right), and the ramp ends at ramp_strain (0.004).
+TEST(DieBlock, RunEndsAtTheEndStrain) {
+  Curve c = run_block(100, 0.01);
+  ASSERT_FALSE(c.rows.empty());
+  EXPECT_NEAR(c.rows.back().strain, 0.01, 1e-5);  // the last step may pass the end by < 1e-5
+  for (auto& m : c.rows)
+    if (m.punch_velocity > 0.3 * (1 - 1e-12)) {  // the first row at full speed: the ramp is over
+      EXPECT_GE(m.strain, 0.004 * (1 - 1e-9));
+      break;
+    }
 }
 
 TEST(DieBlock, MassScalingKeepsTheCurveAndCutsSteps) {

@@ -1,0 +1,130 @@
+#include "study/study_status.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "analysis/json.hpp"
+#include "core/error.hpp"
+#include "io/checkpoint.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pbx {
+
+namespace {
+
+// The "strain" value of the last row of history.csv; -1 when there is none.
+double last_strain(const fs::path& file) {
+  std::ifstream in(file);
+  std::string header, line, last;
+  if (!std::getline(in, header)) return -1;
+  auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::stringstream ss(text);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    return cells;
+  };
+  const auto names = split(header);
+  const auto col = std::find(names.begin(), names.end(), "strain") - names.begin();
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  const auto cells = split(last);
+  if (col >= static_cast<long>(names.size()) || col >= static_cast<long>(cells.size())) return -1;
+  try {
+    return std::stod(cells[static_cast<std::size_t>(col)]);
+  } catch (const std::exception&) {
+    return -1;
+  }
+}
+
+double age_s(const fs::path& file) {
+  const auto dt = fs::file_time_type::clock::now() - fs::last_write_time(file);
+  return std::chrono::duration<double>(dt).count();
+}
+
+std::string ago(double s) {
+  if (s < 0) return "-";
+  if (s < 120) return fmt::format("{:.0f} s ago", s);
+  if (s < 7200) return fmt::format("{:.0f} min ago", s / 60);
+  return fmt::format("{:.1f} h ago", s / 3600);
+}
+
+}  // namespace
+
+std::vector<RunStatus> study_status(const std::string& study_dir) {
+  const fs::path dir(study_dir);
+  if (!fs::exists(dir / "study.json"))
+    throw InputError(fmt::format("{}: no study.json (a study directory is made by 'pbxmpm study')", study_dir));
+  const Json study = Json::read_file((dir / "study.json").string());
+  const Json* runs = study.find("runs");
+  if (!runs || !runs->is_array()) throw InputError(fmt::format("{}/study.json: no \"runs\" array", study_dir));
+  std::vector<RunStatus> out;
+  for (const auto& e : runs->as_array()) {
+    RunStatus r;
+    const Json* id = e.find("id");
+    if (!id || !id->is_string()) throw InputError(fmt::format("{}/study.json: a run without \"id\"", study_dir));
+    r.id = id->as_string();
+    const fs::path rd = dir / "runs" / r.id;
+    r.state = "not started";
+    if (fs::exists(rd / "run.json")) {
+      try {
+        const Json rj = Json::read_file((rd / "run.json").string());
+        const Json* st = rj.find("status");
+        const std::string status = st && st->is_string() ? st->as_string() : "unknown";
+        r.state = status == "finished" ? (fs::exists(rd / "analysis.json") ? "finished" : "finished, not analysed")
+                  : status == "failed" ? "failed"
+                                       : "started";
+        if (const Json* m = rj.find("message"); m && m->is_string()) r.message = m->as_string();
+        if (const Json* v = rj.find("code_version"); v && v->is_string()) r.code_version = v->as_string();
+        if (const Json* es = rj.find("end_strain"); es && es->is_number()) r.end_strain = es->as_number();
+      } catch (const std::exception& ex) {
+        r.state = "started";
+        r.message = ex.what();
+      }
+    }
+    if (fs::exists(rd / "history.csv")) {
+      r.strain = last_strain(rd / "history.csv");
+      r.last_row_age_s = age_s(rd / "history.csv");
+    }
+    if (fs::exists(rd / "checkpoint.h5")) {
+      try {
+        const CheckpointData c = read_checkpoint_header((rd / "checkpoint.h5").string());
+        r.checkpoint_step = static_cast<long>(c.scalars.count("steps") ? c.scalars.at("steps") : -1);
+      } catch (const std::exception& ex) {
+        r.message += (r.message.empty() ? "" : "; ") + std::string("checkpoint unreadable: ") + ex.what();
+      }
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::string format_study_status(const std::vector<RunStatus>& runs, const std::string& study_dir) {
+  std::string s = fmt::format("{:<28} {:<22} {:>16} {:>14} {:>12}  {}\n", "run", "state", "strain reached", "last row",
+                              "checkpoint", "note");
+  std::string todo;
+  int finished = 0;
+  for (const auto& r : runs) {
+    const std::string strain =
+        r.strain < 0 ? "-"
+        : r.end_strain > 0 ? fmt::format("{:.3f} / {:.2f} %", 100 * r.strain, 100 * r.end_strain)
+                           : fmt::format("{:.3f} %", 100 * r.strain);
+    const std::string ck = r.checkpoint_step < 0 ? "-" : fmt::format("step {}", r.checkpoint_step);
+    std::string note = r.state == "started" ? "running, or interrupted if the last row is old" : r.message;
+    if (r.state == "finished") note = r.code_version;
+    s += fmt::format("{:<28} {:<22} {:>16} {:>14} {:>12}  {}\n", r.id, r.state, strain, ago(r.last_row_age_s), ck, note);
+    if (r.state == "finished") ++finished;
+    else todo += (todo.empty() ? "" : ",") + r.id;
+  }
+  s += fmt::format("{} of {} runs finished", finished, runs.size());
+  if (!todo.empty())
+    s += fmt::format("; the others: pbxmpm study <study deck> --out {} --only {}", study_dir, todo);
+  return s + "\n";
+}
+
+}  // namespace pbx
