@@ -13,6 +13,7 @@
 #include "io/deck.hpp"
 #include "solver/runner.hpp"
 #include "study/study.hpp"
+#include "study/study_status.hpp"
 
 namespace fs = std::filesystem;
 using namespace pbx;
@@ -335,4 +336,51 @@ TEST(Study, EtaCountsTheRunsStillToComeAtThisRunsPace) {
   EXPECT_DOUBLE_EQ(study_eta_s(100, 0.75, 0.5, 1), 100 + 400);  // restarted at 50 %: 400 s per run
   EXPECT_LT(study_eta_s(0, 0, 0, 3), 0);                        // nothing measured yet: unknown
   EXPECT_LT(study_eta_s(10, 0.5, 0.5, 3), 0);
+}
+
+// `pbxmpm status`: a finished run, an interrupted one (strain reached, checkpoint step) and one not
+// started, read from the files alone; the last line names the runs still to do.
+TEST(Study, StatusSaysWhereEachRunStands) {
+  const fs::path dir = make_study("", "[10, 20, 30]");
+  const StudySpec s = read_study((dir / "study.toml").string());
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  o.only = {s.runs[0].id};
+  ASSERT_EQ(run_study(s, o), 0);
+  const fs::path cut = dir / "out" / "runs" / s.runs[1].id;
+  fs::create_directories(cut);
+  const std::string text = run_deck_text(s, s.runs[1]);
+  std::ofstream(cut / "deck.toml") << text;
+  {
+    Deck deck = Deck::from_file((cut / "deck.toml").string());
+    Scene<2> scene = build_scene<2>(deck);
+    RunOptions ro;
+    ro.out_dir = cut.string();
+    ro.progress = false;
+    ro.deck_text = text;
+    ro.checkpoint_every = 5;
+    Runner<2> runner(scene, ro);
+    int rows = 0;
+    EXPECT_THROW(runner.run([&](const Measurement&) {
+      if (++rows == 12) throw std::runtime_error("stopped");
+    }),
+                 std::runtime_error);
+  }
+  const auto st = study_status((dir / "out").string());
+  ASSERT_EQ(st.size(), 3u);
+  EXPECT_EQ(st[0].state, "finished");
+  EXPECT_NEAR(st[0].strain, st[0].end_strain, 1e-4);  // the run reached its end strain
+  EXPECT_EQ(st[1].state, "failed");                    // the exception marked it so
+  EXPECT_GT(st[1].strain, 0);
+  EXPECT_LT(st[1].strain, 0.5 * st[0].strain);
+  EXPECT_GT(st[1].checkpoint_step, 0);
+  EXPECT_EQ(st[2].state, "not started");
+  EXPECT_LT(st[2].strain, 0);
+  const std::string table = format_study_status(st, (dir / "out").string());
+  EXPECT_NE(table.find("1 of 3 runs finished"), std::string::npos) << table;
+  EXPECT_NE(table.find("--only " + s.runs[1].id + "," + s.runs[2].id), std::string::npos) << table;
+  EXPECT_THROW(study_status((dir / "nothing").string()), InputError);
+  if (!HasFailure()) fs::remove_all(dir);
 }
