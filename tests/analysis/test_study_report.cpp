@@ -75,13 +75,23 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
                         "model_card.json", "model_card_curves.csv", "fig2_curves_vs_temperature.png",
                         "fig2_curves_vs_temperature.svg", "fig3_moduli_vs_temperature.png", "fig4_strength_vs_temperature.png",
                         "fig5_normalized_curves.png", "fig6_eq15_vs_simulation.png", "fig7_curves_vs_density.png",
-                        "fig8_moduli_vs_density.png", "fig9_density_law.png", "fig9_density_law.svg"}) {
+                        "fig8_moduli_vs_density.png", "fig9_density_law.png", "fig9_density_law.svg", "trends.csv"}) {
     EXPECT_TRUE(fs::exists(dir / "report" / f)) << f;
   }
   std::ifstream md(dir / "report" / "report.md");
   const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("2.357"), std::string::npos);
   EXPECT_NE(text.find("reproduced by neither"), std::string::npos);
+  // the synthetic runs carry the paper's own Table 2-3 and Eq. 21-22 numbers, so every trend the
+  // paper reports must come out its way (a sign or ordering error in the trend table says "no")
+  const auto trends = text.find("## The paper's trends, measured");
+  ASSERT_NE(trends, std::string::npos);
+  const std::string table = text.substr(trends, text.find("## Fitted constants") - trends);
+  int rows = 0;
+  for (std::size_t at = table.find("| yes |"); at != std::string::npos; at = table.find("| yes |", at + 1)) ++rows;
+  EXPECT_EQ(rows, 9) << table;
+  EXPECT_EQ(table.find("| no |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| -40.08 | -40.77 | yes |"), std::string::npos) << table;  // G: two seeds at 293 K
   EXPECT_TRUE(fs::exists(dir / "runs" / "T333_s1" / "analysis.json"));
   if (!HasFailure()) fs::remove_all(dir);
 }

@@ -220,6 +220,73 @@ def last_snapshot(run_dir):
     return files[-1] if files else None
 
 
+def pct(a, b):
+    """Relative change from a to b in percent (NaN when a is not finite or zero)."""
+    return 100 * (b - a) / a if (math.isfinite(a) and math.isfinite(b) and a != 0) else NAN
+
+
+def trend_section(rep, tconds, dconds, p2, p3, phs):
+    """The trends the paper reports (Sections 3.1-3.2), each measured on ours and on the paper's
+    own numbers over the same conditions, with whether ours goes the paper's way."""
+    rows = []
+
+    def yes(ok):
+        return "yes" if ok else "no"
+
+    Ts = [c["temperature_K"] for c in tconds]
+    if len(tconds) >= 2:
+        lo, hi = tconds[0], tconds[-1]
+        Tlo, Thi = int(round(Ts[0])), int(round(Ts[-1]))
+        span = f"{Tlo} -> {Thi} K"
+        d = {}
+        for key, lab in (("E_Pa", "E"), ("G_Pa", "G"), ("K_Pa", "K")):
+            ours = pct(stat(lo, key)[0], stat(hi, key)[0])
+            paper = pct(p2.get((Tlo, "this"), {}).get(lab + "_GPa", NAN), p2.get((Thi, "this"), {}).get(lab + "_GPa", NAN))
+            d[lab] = (ours, paper)
+            if lab != "K":
+                rows.append([f"{lab} falls with temperature ({span}), %", ours, paper, yes(ours < 0)])
+        def k_share(v):  # |change of K| / the smaller |change| of E and G
+            m = min(abs(v["E"]), abs(v["G"]))
+            return abs(v["K"]) / m if m > 0 else NAN
+        kr_ours = k_share({k: x[0] for k, x in d.items()})
+        kr_paper = k_share({k: x[1] for k, x in d.items()})
+        rows.append([f"K changes less than E and G ({span}): size of the change of K / the smaller one of E and G",
+                     kr_ours, kr_paper, yes(kr_ours < 1)])
+        s_ours = pct(stat(lo, "strength_Pa")[0], stat(hi, "strength_Pa")[0])
+        s_paper = pct(p3.get(Tlo, NAN), p3.get(Thi, NAN))
+        rows.append([f"strength falls with temperature ({span}), %", s_ours, s_paper, yes(s_ours < 0)])
+        # "sharply above 353 K": the fall per kelvin above 353 K against the fall per kelvin below it
+        mid = next((c for c in tconds if abs(c["temperature_K"] - 353) < 0.5), None)
+        if mid is not None and Tlo < 353 < Thi:
+            def rate_ratio(a, m, b):
+                below = (a - m) / (353 - Tlo)
+                above = (m - b) / (Thi - 353)
+                return above / below if below > 0 else NAN
+            r_ours = rate_ratio(stat(lo, "strength_Pa")[0], stat(mid, "strength_Pa")[0], stat(hi, "strength_Pa")[0])
+            r_paper = rate_ratio(p3.get(Tlo, NAN), p3.get(353, NAN), p3.get(Thi, NAN))
+            rows.append([f"strength falls sharply above 353 K: fall per K above / below 353 K (sharp: > 1.5)",
+                         r_ours, r_paper, yes(r_ours > 1.5)])
+    if len(dconds) >= 2:
+        rlo, rhi = stat(dconds[0], "density_kg_m3")[0], stat(dconds[-1], "density_kg_m3")[0]
+        span = f"{rlo / 1e3:.3f} -> {rhi / 1e3:.3f} g/cm3"
+
+        def paper_law(lab, rho):
+            return phs[lab + "U_GPa"] * phs[lab + "_k"] * (rho / 1e3 / phs["rho0_g_cm3"]) ** phs[lab + "_n"]
+        Kp = [paper_law("K", rlo), paper_law("K", rhi)]
+        Gp = [paper_law("G", rlo), paper_law("G", rhi)]
+        Ep = [9 * k * g / (3 * k + g) for k, g in zip(Kp, Gp)]
+        paper = {"K": pct(*Kp), "G": pct(*Gp), "E": pct(*Ep), "strength": NAN}
+        for key, lab in (("K_Pa", "K"), ("G_Pa", "G"), ("E_Pa", "E"), ("strength_Pa", "strength")):
+            v = [stat(c, key)[0] for c in dconds]
+            mono = all(b > a for a, b in zip(v, v[1:]))
+            rows.append([f"{lab} rises with density ({span}; every step up), %", pct(v[0], v[-1]), paper[lab], yes(mono)])
+    if rows:
+        rep.h("The paper's trends, measured")
+        rep.table("trends", ["trend", "ours", "paper", "ours goes the paper's way"], rows,
+                  "Each trend the paper reports, measured on our conditions and on the paper's numbers at the same "
+                  "conditions (Table 2-3; for density its Eq. 21-22, E from them; strength vs density: no table)")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("study")
@@ -502,6 +569,9 @@ def main():
             ax[i].set_ylabel(f"{lab} (GPa)")
             ax[i].legend(fontsize=7)
         rep.figure(fig, "fig9_density_law", "Predicted G and K against density (cf. Fig. 9a, b)")
+
+    # ---- the paper's trends, one by one ----
+    trend_section(rep, tconds, dconds, p2, p3, phs)
 
     # ---- fitted constants ----
     rep.h("Fitted constants")
