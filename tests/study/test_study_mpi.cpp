@@ -44,6 +44,28 @@ fs::path make_study(const std::string& extra = "", const std::string& values = "
                                        "values = " << values << "\n";
   return dir;
 }
+
+// Makes run `r` of study `s` in `run_dir` as a study would, writing a checkpoint every 5 history
+// rows, and stops it (an exception) after `rows` rows: an interrupted run.
+void interrupt_run(const StudySpec& s, const StudyRunSpec& r, const fs::path& run_dir, int rows) {
+  fs::create_directories(run_dir);
+  const std::string text = run_deck_text(s, r);
+  std::ofstream(run_dir / "deck.toml") << text;
+  Deck deck = Deck::from_file((run_dir / "deck.toml").string());
+  Scene<2> scene = build_scene<2>(deck);
+  RunOptions ro;
+  ro.out_dir = run_dir.string();
+  ro.progress = false;
+  ro.deck_text = text;
+  ro.deck_name = (run_dir / "deck.toml").string();
+  ro.checkpoint_every = 5;
+  Runner<2> runner(scene, ro);
+  int made = 0;
+  EXPECT_THROW(runner.run([&](const Measurement&) {
+    if (++made == rows) throw std::runtime_error("stopped");
+  }),
+               std::runtime_error);
+}
 }  // namespace
 
 TEST(Study, MpiTwoRanksEqualsSequentialAndResumes) {
@@ -241,25 +263,7 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
   const std::string whole = slurp(dir / "whole" / "runs" / r.id / "history.csv");
 
   const fs::path cut = dir / "cut" / "runs" / r.id;
-  fs::create_directories(cut);
-  const std::string text = run_deck_text(s, r);
-  std::ofstream(cut / "deck.toml") << text;
-  {
-    Deck deck = Deck::from_file((cut / "deck.toml").string());
-    Scene<2> scene = build_scene<2>(deck);
-    RunOptions ro;
-    ro.out_dir = cut.string();
-    ro.progress = false;
-    ro.deck_text = text;
-    ro.deck_name = (cut / "deck.toml").string();
-    ro.checkpoint_every = 5;
-    Runner<2> runner(scene, ro);
-    int rows = 0;
-    EXPECT_THROW(runner.run([&](const Measurement&) {
-      if (++rows == 23) throw std::runtime_error("stopped");
-    }),
-                 std::runtime_error);
-  }
+  interrupt_run(s, r, cut, 23);
   ASSERT_TRUE(fs::exists(cut / "checkpoint.h5"));
   ASSERT_NE(slurp(cut / "history.csv"), whole);
   // the other run gets a checkpoint of this run's deck: refused, nothing runs
@@ -285,23 +289,7 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
   // a checkpoint that cannot be continued (its history.csv lost rows) is set aside and the run
   // starts over, ending with the same history
   const fs::path cut2 = dir / "cut2" / "runs" / r.id;
-  fs::create_directories(cut2);
-  std::ofstream(cut2 / "deck.toml") << text;
-  {
-    Deck deck = Deck::from_file((cut2 / "deck.toml").string());
-    Scene<2> scene = build_scene<2>(deck);
-    RunOptions ro;
-    ro.out_dir = cut2.string();
-    ro.progress = false;
-    ro.deck_text = text;
-    ro.checkpoint_every = 5;
-    Runner<2> runner(scene, ro);
-    int rows = 0;
-    EXPECT_THROW(runner.run([&](const Measurement&) {
-      if (++rows == 12) throw std::runtime_error("stopped");
-    }),
-                 std::runtime_error);
-  }
+  interrupt_run(s, r, cut2, 12);
   {
     std::istringstream in(slurp(cut2 / "history.csv"));
     std::string line, head;
@@ -349,25 +337,7 @@ TEST(Study, StatusSaysWhereEachRunStands) {
   o.progress = false;
   o.only = {s.runs[0].id};
   ASSERT_EQ(run_study(s, o), 0);
-  const fs::path cut = dir / "out" / "runs" / s.runs[1].id;
-  fs::create_directories(cut);
-  const std::string text = run_deck_text(s, s.runs[1]);
-  std::ofstream(cut / "deck.toml") << text;
-  {
-    Deck deck = Deck::from_file((cut / "deck.toml").string());
-    Scene<2> scene = build_scene<2>(deck);
-    RunOptions ro;
-    ro.out_dir = cut.string();
-    ro.progress = false;
-    ro.deck_text = text;
-    ro.checkpoint_every = 5;
-    Runner<2> runner(scene, ro);
-    int rows = 0;
-    EXPECT_THROW(runner.run([&](const Measurement&) {
-      if (++rows == 12) throw std::runtime_error("stopped");
-    }),
-                 std::runtime_error);
-  }
+  interrupt_run(s, s.runs[1], dir / "out" / "runs" / s.runs[1].id, 12);
   const auto st = study_status((dir / "out").string());
   ASSERT_EQ(st.size(), 3u);
   EXPECT_EQ(st[0].state, "finished");
