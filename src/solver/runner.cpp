@@ -31,6 +31,16 @@ std::string hms(double s) {
   const long t = std::lround(s);
   return fmt::format("{:02d}:{:02d}:{:02d}", t / 3600, (t / 60) % 60, t % 60);
 }
+// The machine a run goes on (`pbxmpm status` tells a live run from an interrupted one by it and
+// the pid).
+std::string host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  std::string h(name);
+  for (char& c : h)
+    if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '_';
+  return h;
+}
 }  // namespace
 
 template <int D>
@@ -241,6 +251,8 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "message": "{}",
   "code_version": "{} ({})",
   "segment_code_versions": "{}",
+  "host": "{}",
+  "pid": {},
   "dimension": {},
   "threads": {},
   "particles": {},
@@ -265,7 +277,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "deck": {}
 }}
 )J",
-      status, esc, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), D, omp_get_max_threads(), P.size(),
+      status, esc, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), host_name(), static_cast<long>(::getpid()), D, omp_get_max_threads(), P.size(),
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
       sc_.grid.fields, solver_.step_count(), solver_.time(), wall, restarts_,
       wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),

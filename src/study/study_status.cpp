@@ -1,12 +1,15 @@
 #include "study/study_status.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
+#include <signal.h>
+#include <unistd.h>
 
 #include "analysis/json.hpp"
 #include "core/error.hpp"
@@ -40,6 +43,12 @@ double last_strain(const fs::path& file) {
   } catch (const std::exception&) {
     return -1;
   }
+}
+
+std::string this_host() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
 }
 
 double age_s(const fs::path& file) {
@@ -79,6 +88,17 @@ std::vector<RunStatus> study_status(const std::string& study_dir) {
         r.state = status == "finished" ? (fs::exists(rd / "analysis.json") ? "finished" : "finished, not analysed")
                   : status == "failed" ? "failed"
                                        : "started";
+        const Json* host = rj.find("host");
+        const Json* pid = rj.find("pid");
+        if (r.state == "started" && host && host->is_string() && pid && pid->is_number()) {
+          if (host->as_string() == this_host()) {
+            const auto p = static_cast<pid_t>(pid->as_number());
+            r.state = p > 0 && (::kill(p, 0) == 0 || errno == EPERM) ? "running" : "interrupted";
+            if (r.state == "running") r.message = fmt::format("pid {}", p);
+          } else {
+            r.message = "on " + host->as_string();
+          }
+        }
         if (const Json* m = rj.find("message"); m && m->is_string()) r.message = m->as_string();
         if (const Json* v = rj.find("code_version"); v && v->is_string()) r.code_version = v->as_string();
         if (const Json* es = rj.find("end_strain"); es && es->is_number()) r.end_strain = es->as_number();
@@ -116,6 +136,8 @@ std::string format_study_status(const std::vector<RunStatus>& runs, const std::s
                            : fmt::format("{:.3f} %", 100 * r.strain);
     const std::string ck = r.checkpoint_step < 0 ? "-" : fmt::format("step {}", r.checkpoint_step);
     std::string note = r.state == "started" ? "running, or interrupted if the last row is old" : r.message;
+    if (r.state == "interrupted") note = "its process is gone: rerun the study to continue it";
+    if (r.state == "started" && !r.message.empty()) note = r.message + "; " + note;
     if (r.state == "finished") note = r.code_version;
     s += fmt::format("{:<28} {:<22} {:>16} {:>14} {:>12}  {}\n", r.id, r.state, strain, ago(r.last_row_age_s), ck, note);
     if (r.state == "finished") ++finished;

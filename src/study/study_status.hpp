@@ -9,7 +9,9 @@ namespace pbx {
 
 struct RunStatus {
   std::string id;
-  std::string state;           // "finished", "failed", "started", "not started"
+  // "finished", "failed", "running" (its process is alive on this machine), "interrupted" (it is
+  // not), "started" (on another machine, or by a version that did not record its process), "not started"
+  std::string state;
   double strain = -1;          // strain of the last history row (-1: none)
   double end_strain = -1;      // the run's end strain from run.json (-1: unknown)
   double last_row_age_s = -1;  // seconds since history.csv was last written (-1: none)

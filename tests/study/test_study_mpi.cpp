@@ -7,6 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include <unistd.h>
+
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -352,5 +355,16 @@ TEST(Study, StatusSaysWhereEachRunStands) {
   EXPECT_NE(table.find("1 of 3 runs finished"), std::string::npos) << table;
   EXPECT_NE(table.find("--only " + s.runs[1].id + "," + s.runs[2].id), std::string::npos) << table;
   EXPECT_THROW(study_status((dir / "nothing").string()), InputError);
+  // a run.json still "running": alive if its process (here: this test) is, interrupted if not
+  const fs::path rj = dir / "out" / "runs" / s.runs[1].id / "run.json";
+  std::string json = slurp(rj);
+  const std::string pid = fmt::format("\"pid\": {},", ::getpid());
+  ASSERT_NE(json.find(pid), std::string::npos) << json;
+  json.replace(json.find("\"status\": \"failed\""), 18, "\"status\": \"running\"");
+  std::ofstream(rj) << json;
+  EXPECT_EQ(study_status((dir / "out").string())[1].state, "running");
+  json.replace(json.find(pid), pid.size(), "\"pid\": 999999999,");  // above any pid_max
+  std::ofstream(rj) << json;
+  EXPECT_EQ(study_status((dir / "out").string())[1].state, "interrupted");
   if (!HasFailure()) fs::remove_all(dir);
 }
