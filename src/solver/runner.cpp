@@ -31,16 +31,6 @@ std::string hms(double s) {
   const long t = std::lround(s);
   return fmt::format("{:02d}:{:02d}:{:02d}", t / 3600, (t / 60) % 60, t % 60);
 }
-// The machine a run goes on (`pbxmpm status` tells a live run from an interrupted one by it and
-// the pid).
-std::string host_name() {
-  char name[256] = {};
-  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
-  std::string h(name);
-  for (char& c : h)
-    if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '_';
-  return h;
-}
 }  // namespace
 
 template <int D>
@@ -287,6 +277,17 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
       opt_.deck_json.empty() ? "null" : opt_.deck_json);
   f.close();
   std::filesystem::rename(file.string() + ".tmp", file);
+}
+
+// The machine a run goes on (`pbxmpm status` tells a live run from an interrupted one by it and
+// the pid).
+std::string host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  std::string h(name);
+  for (char& c : h)
+    if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '_';
+  return h;
 }
 
 double study_eta_s(double wall_s, double frac, double frac_at_start, int runs_after) {

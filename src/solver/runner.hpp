@@ -53,6 +53,9 @@ struct RunOptions {
 // of the run (a restart) to `frac`; negative when not yet known.
 double study_eta_s(double wall_s, double frac, double frac_at_start, int runs_after);
 
+// This machine's name as run.json records it ("host"), with quotes and control characters replaced.
+std::string host_name();
+
 template <int D>
 class Runner {
  public:

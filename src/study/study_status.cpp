@@ -14,6 +14,7 @@
 #include "analysis/json.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
+#include "solver/runner.hpp"
 
 namespace fs = std::filesystem;
 
@@ -43,12 +44,6 @@ double last_strain(const fs::path& file) {
   } catch (const std::exception&) {
     return -1;
   }
-}
-
-std::string this_host() {
-  char name[256] = {};
-  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
-  return name;
 }
 
 double age_s(const fs::path& file) {
@@ -91,7 +86,7 @@ std::vector<RunStatus> study_status(const std::string& study_dir) {
         const Json* host = rj.find("host");
         const Json* pid = rj.find("pid");
         if (r.state == "started" && host && host->is_string() && pid && pid->is_number()) {
-          if (host->as_string() == this_host()) {
+          if (host->as_string() == host_name()) {
             const auto p = static_cast<pid_t>(pid->as_number());
             r.state = p > 0 && (::kill(p, 0) == 0 || errno == EPERM) ? "running" : "interrupted";
             if (r.state == "running") r.message = fmt::format("pid {}", p);
