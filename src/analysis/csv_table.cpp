@@ -1,5 +1,6 @@
 #include "analysis/csv_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -45,6 +46,7 @@ CsvTable CsvTable::parse(const std::string& text, const std::string& source) {
   }
   if (t.names_.empty()) throw InputError(fmt::format("{}: no header line", source));
   t.cols_.assign(t.names_.size(), {});
+  t.bad_.assign(t.names_.size(), {});
   while (std::getline(in, line)) {
     ++lineno;
     if (trim(line).empty() || trim(line)[0] == '#') continue;
@@ -65,7 +67,9 @@ CsvTable CsvTable::parse(const std::string& text, const std::string& source) {
         }
       }
       t.cols_[c].push_back(x);
+      t.bad_[c].push_back(std::isfinite(x) ? std::string() : cells[c].empty() ? std::string("(empty)") : cells[c]);
     }
+    t.lines_.push_back(lineno);
     ++t.rows_;
   }
   return t;
@@ -91,6 +95,16 @@ const std::vector<double>& CsvTable::column(const std::string& name) const {
     if (names_[c] == name) return cols_[c];
   }
   throw InputError(fmt::format("{}: no column '{}' (columns: {})", source_, name, fmt::join(names_, ", ")));
+}
+
+const std::vector<double>& CsvTable::numbers(const std::string& name) const {
+  const std::vector<double>& v = column(name);
+  const std::size_t c = static_cast<std::size_t>(std::find(names_.begin(), names_.end(), name) - names_.begin());
+  for (std::size_t r = 0; r < rows_; ++r)
+    if (!bad_[c][r].empty())
+      throw InputError(fmt::format("{}:{}: column '{}' holds '{}', not a finite number", source_, lines_[r], name,
+                                   bad_[c][r]));
+  return v;
 }
 
 double column_unit_factor(const std::string& name) {

@@ -8,8 +8,8 @@ namespace pbx {
 
 class CsvTable {
  public:
-  // Throws InputError naming the file and line on a missing file, a ragged row or a non-number.
-  // Empty cells and "nan" read as NaN.
+  // Throws InputError naming the file and line on a missing file or a ragged row. Empty cells,
+  // "nan" and text read as NaN (a file may hold text columns); numbers() refuses them.
   static CsvTable read(const std::string& path);
   static CsvTable parse(const std::string& text, const std::string& source);
 
@@ -19,11 +19,16 @@ class CsvTable {
   bool has(const std::string& name) const;
   // Throws InputError "<file>: no column '<name>' (columns: ...)".
   const std::vector<double>& column(const std::string& name) const;
+  // The column, which must hold a finite number in every row: otherwise InputError naming the
+  // file, line and cell (a cell that did not read as a number is never dropped silently).
+  const std::vector<double>& numbers(const std::string& name) const;
 
  private:
   std::string source_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> cols_;
+  std::vector<std::size_t> lines_;  // file line of each row
+  std::vector<std::vector<std::string>> bad_;  // per column, per row: the text of a cell that is not a finite number ("" if it is)
   std::size_t rows_ = 0;
 };
 

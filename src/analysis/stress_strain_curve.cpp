@@ -8,19 +8,18 @@
 namespace pbx {
 
 StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
-  const CsvTable t = CsvTable::read(path);
-  const auto& eps = t.column("strain");
-  const auto& punch = t.column("punch_stress_Pa");
-  const auto& wall = t.column("wall_stress_Pa");
-  const auto& sxx = t.column("sxx_Pa");
-  const auto& syy = t.column("syy_Pa");
-  const auto& szz = t.column("szz_Pa");
-  const auto& keie = t.column("ke_ie");
-  const auto& time = t.column("t_s");
-  const std::vector<double>* overlap = t.has("field_overlap_m2_per_m") ? &t.column("field_overlap_m2_per_m") : nullptr;
+  const CsvTable t = CsvTable::read(path);  // every cell used must be a number: no row is skipped
+  const auto& eps = t.numbers("strain");
+  const auto& punch = t.numbers("punch_stress_Pa");
+  const auto& wall = t.numbers("wall_stress_Pa");
+  const auto& sxx = t.numbers("sxx_Pa");
+  const auto& syy = t.numbers("syy_Pa");
+  const auto& szz = t.numbers("szz_Pa");
+  const auto& keie = t.numbers("ke_ie");
+  const auto& time = t.numbers("t_s");
+  const std::vector<double>* overlap = t.has("field_overlap_m2_per_m") ? &t.numbers("field_overlap_m2_per_m") : nullptr;
   StressStrainCurve c;
   for (std::size_t i = 0; i < t.rows(); ++i) {
-    if (!std::isfinite(eps[i])) continue;
     c.strain.push_back(eps[i]);
     c.punch_stress.push_back(punch[i]);
     c.wall_stress.push_back(wall[i]);

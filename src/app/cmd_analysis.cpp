@@ -1,4 +1,5 @@
 // pbxmpm analyze / fit / report: the analysis of run and study directories (src/analysis).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -35,8 +36,56 @@ std::pair<double, double> range_option(const std::string& text, const std::strin
   }
 }
 
+// A quantity given on the command line, which must be finite and > 0.
 double quantity_option(const std::string& text, const Dimension& d, const std::string& option) {
-  return to_si(text, d, option);
+  const double v = to_si(text, d, option);
+  if (!(v > 0) || !std::isfinite(v)) throw InputError(fmt::format("{}: must be a finite quantity > 0 (got '{}')", option, text));
+  return v;
+}
+
+// A plain number option, or InputError naming the option: flags must never be ignored silently.
+double number_option(const std::string& text, const std::string& option, double lo, bool lo_open) {
+  std::size_t used = 0;
+  double v = std::nan("");
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+  }
+  if (used != text.size() || !std::isfinite(v) || (lo_open ? !(v > lo) : !(v >= lo)))
+    throw InputError(fmt::format("{}: expected a finite number {} {} (got '{}')", option, lo_open ? ">" : ">=", lo, text));
+  return v;
+}
+
+void check_confidence(double c) {
+  if (!(c > 0 && c < 1)) throw InputError(fmt::format("--confidence: must lie in (0, 1), e.g. 0.95 (got {})", c));
+}
+
+// SI factor of a column from its name's unit suffix, which must be one of `dimension`'s: a column
+// of stresses, moduli, densities or temperatures without a stated unit is refused, not read as SI.
+double unit_factor(const std::string& column, const Dimension& dimension, const std::string& option) {
+  const double f = column_unit_factor(column);
+  auto ends = [&](const char* suffix) {
+    const std::string s(suffix);
+    return column.size() >= s.size() && column.compare(column.size() - s.size(), s.size(), s) == 0;
+  };
+  bool stated = false;
+  const char* expected = "";
+  if (dimension == dim::pressure) {
+    stated = ends("_Pa") || ends("_kPa") || ends("_MPa") || ends("_GPa");
+    expected = "_Pa, _kPa, _MPa or _GPa";
+  } else if (dimension == dim::density) {
+    stated = ends("_kg_m3") || ends("_g_cm3");
+    expected = "_kg_m3 or _g_cm3";
+  } else if (dimension == dim::temperature) {
+    stated = ends("_K");
+    expected = "_K (kelvin)";
+  } else {
+    return f;  // strain: a fraction, or percent with _percent
+  }
+  if (!stated)
+    throw InputError(fmt::format("{} '{}': the column name must end with its unit, {} (e.g. rename the column)",
+                                 option, column, expected));
+  return f;
 }
 
 void print_fit(const FitResult& f) {
@@ -49,16 +98,16 @@ void print_fit(const FitResult& f) {
              f.note.empty() ? "" : "\n  note: " + f.note);
 }
 
-std::vector<double> scaled_column(const CsvTable& t, const std::string& name) {
-  std::vector<double> v = t.column(name);
-  const double s = column_unit_factor(name);
+std::vector<double> scaled_column(const CsvTable& t, const std::string& name, const Dimension& d, const std::string& option) {
+  std::vector<double> v = t.numbers(name);
+  const double s = unit_factor(name, d, option);
   for (auto& x : v) x *= s;
   return v;
 }
 
 struct AnalyzeArgs {
   std::string dir, window, plateau, options_file, window_signal;
-  double strength_strain = 0, tolerance = 0, ke_ie = -1;
+  std::string strength_strain, tolerance, ke_ie;  // "" = not given
   bool allow_unfinished = false;
 };
 
@@ -79,10 +128,10 @@ AnalysisOptions analysis_options(const AnalyzeArgs& a) {
     o.plateau_lo = lo;
     o.plateau_hi = hi;
   }
-  if (a.strength_strain > 0) o.strength_max_strain = a.strength_strain;
-  if (a.tolerance > 0) o.window_tolerance = a.tolerance;
+  if (!a.strength_strain.empty()) o.strength_max_strain = number_option(a.strength_strain, "--strength-strain", 0, true);
+  if (!a.tolerance.empty()) o.window_tolerance = number_option(a.tolerance, "--window-tolerance", 0, true);
   if (!a.window_signal.empty()) o.window_signal = a.window_signal;
-  if (a.ke_ie >= 0) o.ke_ie_limit = a.ke_ie;
+  if (!a.ke_ie.empty()) o.ke_ie_limit = number_option(a.ke_ie, "--ke-ie-limit", 0, false);
   o.allow_unfinished = a.allow_unfinished;
   o.validate();
   return o;
@@ -138,10 +187,9 @@ void apply_study_flags(const StudyArgs& a, StudyFitOptions& o) {
   if (!a.GU.empty()) o.GU = quantity_option(a.GU, dim::pressure, "--GU");
   if (!a.KU.empty()) o.KU = quantity_option(a.KU, dim::pressure, "--KU");
   if (!a.rho0.empty()) o.rho0 = quantity_option(a.rho0, dim::density, "--rho0");
-  if (!(a.confidence > 0 && a.confidence < 1)) throw InputError("--confidence: must lie in (0, 1)");
+  check_confidence(a.confidence);
   o.confidence = a.confidence;
   o.partial = a.partial;
-  if (!(o.T0_K > 0) || !(o.GU > 0) || !(o.KU > 0)) throw InputError("--T0, --GU and --KU must be > 0");
 }
 
 }  // namespace
@@ -201,9 +249,10 @@ void register_analysis(CLI::App& app) {
   ft->add_option("--confidence", ta->confidence, "confidence level of the intervals")->default_val(0.95);
   ft->add_option("--out", ta->out, "write the fits as JSON");
   ft->callback([ta, write_out] {
+    check_confidence(ta->confidence);
     const CsvTable t = CsvTable::read(ta->csv);
-    const auto T = t.column(ta->x);
-    const auto s = scaled_column(t, ta->y);
+    const auto T = scaled_column(t, ta->x, dim::temperature, "--T-col");
+    const auto s = scaled_column(t, ta->y, dim::pressure, "--strength-col");
     const double T0 = quantity_option(ta->T0, dim::temperature, "--T0");
     const FitResult nl = fit_temperature_law_nonlinear(T, s, T0, ta->confidence);
     const FitResult ll = fit_temperature_law_loglinear(T, s, T0, ta->confidence);
@@ -225,16 +274,25 @@ void register_analysis(CLI::App& app) {
   fc->add_option("--confidence", ca->confidence, "confidence level of the intervals")->default_val(0.95);
   fc->add_option("--out", ca->out, "write the fit as JSON");
   fc->callback([ca, write_out] {
+    check_confidence(ca->confidence);
     const CsvTable t = CsvTable::read(ca->csv);
-    const auto e = scaled_column(t, ca->x);
-    const auto s = scaled_column(t, ca->y);
+    const auto e = scaled_column(t, ca->x, dim::none, "--strain-col");
+    const auto s = scaled_column(t, ca->y, dim::pressure, "--stress-col");
     auto [lo, hi] = range_option(ca->window, "--window");
+    if (!(std::isfinite(lo) && std::isfinite(hi) && hi > lo && lo >= 0))
+      throw InputError(fmt::format("--window: needs 0 <= LO < HI in percent strain (got '{}')", ca->window));
     std::vector<double> ep, sp;
     for (std::size_t i = 0; i < e.size(); ++i) {
-      if (100 * e[i] >= lo && 100 * e[i] <= hi && std::isfinite(s[i])) {
+      if (100 * e[i] >= lo && 100 * e[i] <= hi) {
         ep.push_back(100 * e[i]);
         sp.push_back(s[i]);
       }
+    }
+    if (ep.empty()) {
+      const auto [mn, mx] = std::minmax_element(e.begin(), e.end());
+      throw InputError(fmt::format("{}: no row has '{}' in the window {} .. {} % strain (the file spans {:.4g} .. {:.4g} %; "
+                                   "a column in percent must be named *_percent)",
+                                   ca->csv, ca->x, lo, hi, e.empty() ? 0.0 : 100 * *mn, e.empty() ? 0.0 : 100 * *mx));
     }
     double sc = 0;
     if (!ca->strength.empty()) {
@@ -242,7 +300,9 @@ void register_analysis(CLI::App& app) {
     } else {
       for (double x : sp) sc = std::max(sc, x);
     }
-    if (!(sc > 0)) throw InputError("--strength: the normalising stress must be > 0");
+    if (!(sc > 0))
+      throw InputError(fmt::format("{}: the largest '{}' in the window is {:.4g} Pa; Eq. 14 needs compression positive "
+                                   "(or give --strength)", ca->csv, ca->y, sc));
     for (auto& x : sp) x /= sc;
     const FitResult f = fit_normalized_curve(ep, sp, ca->confidence);
     fmt::print("normalised by sigma_c = {:.6g} Pa; window {} .. {} % strain\n", sc, lo, hi);
@@ -265,19 +325,20 @@ void register_analysis(CLI::App& app) {
   fd->add_option("--confidence", da->confidence, "confidence level of the intervals")->default_val(0.95);
   fd->add_option("--out", da->out, "write the fits as JSON");
   fd->callback([da, write_out] {
+    check_confidence(da->confidence);
     const CsvTable t = CsvTable::read(da->csv);
-    const auto rho = scaled_column(t, da->x);
+    const auto rho = scaled_column(t, da->x, dim::density, "--density-col");
     const double rho0 = quantity_option(da->rho0, dim::density, "--rho0");
     const double GU = quantity_option(da->GU, dim::pressure, "--GU"), KU = quantity_option(da->KU, dim::pressure, "--KU");
     Json j = Json::object();
     if (t.has(da->y)) {
-      const FitResult g = fit_density_law(rho, scaled_column(t, da->y), rho0, GU, da->confidence);
+      const FitResult g = fit_density_law(rho, scaled_column(t, da->y, dim::pressure, "--G-col"), rho0, GU, da->confidence);
       fmt::print("G: ");
       print_fit(g);
       j.set("G", g.to_json());
     }
     if (t.has(da->y2)) {
-      const FitResult k = fit_density_law(rho, scaled_column(t, da->y2), rho0, KU, da->confidence);
+      const FitResult k = fit_density_law(rho, scaled_column(t, da->y2, dim::pressure, "--K-col"), rho0, KU, da->confidence);
       fmt::print("K: ");
       print_fit(k);
       j.set("K", k.to_json());

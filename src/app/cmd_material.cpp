@@ -66,6 +66,7 @@ void run_material(const MaterialOptions& o) {
   ctx.temperature = T;
   ctx.name = o.material;
   const auto m = make_material<3>(*table, ctx);
+  table->check_unused();  // a misspelt key of this material is an error here as in a run
 
   const auto samples = drive_point(*m, load);
   fmt::print(stderr, "pbxmpm material: '{}' ({}) at {} K: rho0 = {:.6g} kg/m3, c_L = {:.6g} m/s; {} ({}), {} rows\n",

@@ -39,12 +39,12 @@ void register_run(CLI::App& app) {
   run->add_option("--out,-o", args->out, "output directory (history.csv, run.json, snapshots/)");
   run->add_option("--checkpoint-every", args->checkpoint_every,
                   "write OUT/checkpoint.h5 every N history rows (it is overwritten each time)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000));
   run->add_option("--restart", args->restart,
                   "continue the run saved in this checkpoint (its deck; output in the checkpoint's folder "
                   "unless --out is given)")
       ->check(CLI::ExistingFile);
-  run->add_option("--threads,-t", args->threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_option("--threads,-t", args->threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 1024));
   run->add_flag("--quiet,-q", args->quiet, "no progress display");
   run->callback([args, run] {
     Deck deck = Deck::from_string("", "");

@@ -24,14 +24,14 @@ void register_study(CLI::App& app) {
   auto* st = app.add_subcommand("study", "Run a study deck (runs x seeds, MPI-aware, resumable), analyse, fit and report");
   st->add_option("deck", a->deck, "study deck (TOML with a [study] table)")->required()->check(CLI::ExistingFile);
   st->add_option("--out,-o", a->out, "study directory (default: out/<study name>)");
-  st->add_option("--threads,-t", a->threads, "OpenMP threads per run")->check(CLI::PositiveNumber);
+  st->add_option("--threads,-t", a->threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
   st->add_option("--only", a->only,
                  "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run has finished")
       ->delimiter(',');
   st->add_option("--checkpoint-every", a->checkpoint_every,
                  "each run writes runs/<id>/checkpoint.h5 every N history rows (0: never); an interrupted run "
                  "continues from it when the study is started again")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
   st->add_flag("--no-report", a->no_report, "skip the report at the end");
   st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");

@@ -1,6 +1,8 @@
 // pbxmpm: mesoscale MPM for polymer-bonded explosives. See README.md.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
@@ -32,6 +34,14 @@ int main(int argc, char** argv) {
   } catch (const pbx::InstabilityError& e) {
     std::fprintf(stderr, "pbxmpm: run stopped, unstable: %s\n", e.what());
     return 3;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "pbxmpm: error: cannot create or write '%s' (check --out and the permissions): %s\n",
+                 e.path1().string().c_str(), e.code().message().c_str());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "pbxmpm: error: out of memory: the deck asks for more particles, grid or grains than this "
+                         "machine can hold (check the sizes, grid.cell_size and particles_per_cell)\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pbxmpm: error: %s\n", e.what());
     return 1;

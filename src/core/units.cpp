@@ -46,6 +46,15 @@ Dimension add(Dimension a, const Dimension& b, int sign) {
 }  // namespace
 
 std::string Dimension::si_unit() const {
+  // the derived units a deck's reader knows by name, so messages read "Pa", not "m^-1 kg s^-2"
+  if (*this == dim::pressure) return "Pa";
+  if (*this == dim::energy) return "J";
+  if (*this == dim::molar_energy) return "J/mol";
+  if (*this == dim::density) return "kg/m^3";
+  if (*this == dim::velocity) return "m/s";
+  if (*this == dim::acceleration) return "m/s^2";
+  if (*this == dim::rate) return "1/s";
+  if (*this == dim::per_temperature) return "1/K";
   static const char* names[5] = {"m", "kg", "s", "K", "mol"};
   std::string out;
   for (int i = 0; i < 5; ++i) {

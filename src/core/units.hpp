@@ -11,7 +11,7 @@ namespace pbx {
 struct Dimension {
   std::array<int, 5> e{0, 0, 0, 0, 0};
   bool operator==(const Dimension&) const = default;
-  std::string si_unit() const;  // e.g. "kg m^-1 s^-2"
+  std::string si_unit() const;  // e.g. "Pa", "kg m^-1 s^-1"
 };
 
 namespace dim {

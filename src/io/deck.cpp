@@ -1,5 +1,7 @@
 #include "io/deck.hpp"
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -81,6 +83,10 @@ void find_unused(const toml::node& node, const std::string& path, const std::set
 
 void Deck::check_unused() const { find_unused(impl_->root, "", impl_->used, impl_->name); }
 
+void DeckTable::check_unused() const {
+  find_unused(*static_cast<const toml::table*>(node_), path_, deck_->impl_->used, deck_->name());
+}
+
 std::string Deck::to_json() const {
   std::stringstream ss;
   ss << toml::json_formatter{impl_->root};
@@ -124,9 +130,13 @@ double DeckTable::quantity(const std::string& key, const Dimension& d, std::opti
     if (def) return *def;
     fail(key, fmt::format("required key missing (a quantity in {})", d.si_unit()));
   }
-  if (auto v = n->value<double>()) return *v;  // plain numbers are SI
-  if (auto s = n->value<std::string>()) return to_si(*s, d, where(key));
-  fail(key, fmt::format("expected a number (SI, {}) or a string with a unit", d.si_unit()));
+  double v;
+  if (auto x = n->value<double>()) v = *x;  // plain numbers are SI
+  else if (auto s = n->value<std::string>()) v = to_si(*s, d, where(key));
+  else fail(key, fmt::format("expected a number (SI, {}) or a string with a unit", d.si_unit()));
+  // toml accepts nan and inf; no deck quantity may be either (inf would pass every "> 0" check)
+  if (!std::isfinite(v)) fail(key, fmt::format("must be a finite number (got {})", v));
+  return v;
 }
 
 double DeckTable::number(const std::string& key, std::optional<double> def) const {
@@ -135,9 +145,12 @@ double DeckTable::number(const std::string& key, std::optional<double> def) cons
     if (def) return *def;
     fail(key, "required key missing (a number)");
   }
-  if (auto v = n->value<double>()) return *v;
-  if (auto s = n->value<std::string>()) return to_si(*s, dim::none, where(key));
-  fail(key, "expected a number");
+  double v;
+  if (auto x = n->value<double>()) v = *x;
+  else if (auto s = n->value<std::string>()) v = to_si(*s, dim::none, where(key));
+  else fail(key, "expected a number");
+  if (!std::isfinite(v)) fail(key, fmt::format("must be a finite number (got {})", v));
+  return v;
 }
 
 long DeckTable::integer(const std::string& key, std::optional<long> def) const {
@@ -183,6 +196,7 @@ std::vector<double> DeckTable::quantities(const std::string& key, const Dimensio
       out.push_back(to_si(*s, d, where(key)));
     else
       fail(key, "expected an array of numbers or strings with units");
+    if (!std::isfinite(out.back())) fail(key, fmt::format("entry {} must be a finite number (got {})", out.size() - 1, out.back()));
   }
   return out;
 }

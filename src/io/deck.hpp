@@ -43,6 +43,9 @@ class DeckTable {
 
   // Throws InputError "<file>:<line>: <path.key>: <msg>".
   [[noreturn]] void fail(const std::string& key, const std::string& msg) const;
+  // Throws InputError naming the first key of this table (and its sub-tables) never read: for a
+  // command that reads one table of a deck whose other tables it ignores.
+  void check_unused() const;
   std::string where(const std::string& key) const;  // "file:line: path.key"
 
  private:

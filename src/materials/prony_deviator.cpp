@@ -21,6 +21,7 @@ void read_series(const DeckTable& t, const std::string& mkey, const std::string&
   tau = t.quantities(tkey, dim::time);
   if (m.size() != tau.size())
     t.fail(tkey, fmt::format("has {} entries but {} has {}", tau.size(), mkey, m.size()));
+  if (m.empty()) t.fail(mkey, "must list at least one Prony term");
   for (double v : m)
     if (!(v > 0.0)) t.fail(mkey, fmt::format("every modulus must be > 0 (got {} Pa)", v));
   for (double v : tau)

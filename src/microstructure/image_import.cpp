@@ -95,7 +95,17 @@ Packing import_image(const ImageSpec& spec) {
       gr.mode = -1;
       p.grains.push_back(gr);
     }
-  // Grains within contact_gap of each other (pixel centres) must get different colours.
+  if (p.grains.empty())
+    throw InputError(fmt::format("{}: no pixel has the TATB colour #{:06X} of the legend: there is no grain to simulate",
+                                 spec.file, spec.tatb));
+  // Grains within contact_gap of each other (pixel centres) must get different colours. The search
+  // visits (2 reach + 1)^2 pixels around each boundary pixel, so a gap of many pixels (a unit slip,
+  // "1 m" for "1 um") would run for hours: refuse it.
+  constexpr double kMaxReach = 64;
+  if (spec.contact_gap / spec.pixel > kMaxReach)
+    throw InputError(fmt::format("{}: contact_gap = {:.3g} m spans {:.3g} pixels of {:.3g} m; at most {:.0f} are "
+                                 "supported (grains that close are neighbours; the paper's binder coats are microns)",
+                                 spec.file, spec.contact_gap, spec.contact_gap / spec.pixel, spec.pixel, kMaxReach));
   const int reach = static_cast<int>(std::ceil(spec.contact_gap / spec.pixel));
   std::set<std::pair<int, int>> pairs;
   for (int j = 0; j < im.ny; ++j)

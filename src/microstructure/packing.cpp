@@ -81,6 +81,17 @@ PackingSpec read_packing_spec(const DeckTable& t) {
     t.fail("diameter_min", fmt::format("is larger than diameter_max ({:.4g} > {:.4g} m)", s.sizes.dmin, s.sizes.dmax));
   if (2 * s.sizes.dmax > std::min(s.box.x(), s.box.y()))
     t.fail("diameter_max", "must be at most half the smaller box side");
+  {
+    // Every fine grain is placed one at a time and the whole packing relaxed after each, so the
+    // cost grows faster than N^2: refuse a box that could need more grains than the packer is for
+    // (the paper's box holds about 100) instead of running for days or out of memory.
+    constexpr double kMaxGrains = 20000;
+    const double at_most = s.box.prod() / (0.25 * M_PI * s.sizes.dmin * s.sizes.dmin);
+    if (at_most > kMaxGrains)
+      t.fail("diameter_min", fmt::format("the {:.3g} x {:.3g} m box could need up to {:.3g} grains of {:.3g} m; this "
+                                         "packer is built for at most {:.0f} (enlarge diameter_min or shrink box)",
+                                         s.box.x(), s.box.y(), at_most, s.sizes.dmin, kMaxGrains));
+  }
   s.sizes.modes[0] = read_mode(t.table("coarse"), s.sizes.dmin, s.sizes.dmax);
   s.sizes.modes[1] = t.has("fine") ? read_mode(t.table("fine"), s.sizes.dmin, s.sizes.dmax) : DiameterMode{};
   if (std::abs(s.sizes.modes[0].share + s.sizes.modes[1].share - 1.0) > 1e-9)

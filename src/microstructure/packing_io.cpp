@@ -164,21 +164,40 @@ Packing read_packing(const std::string& dir) {
     std::string f[7];
     for (auto& x : f)
       if (!std::getline(ss, x, ',')) bad("expected 7 columns");
-    try {
-      Grain g;
-      g.centre = {std::stod(f[1]), std::stod(f[2])};
-      g.diameter = std::stod(f[3]);
-      g.coat = std::stod(f[4]);
-      g.colour = std::stoi(f[5]);
-      g.mode = std::stoi(f[6]);
-      if (!(g.diameter > 0) || !(g.coat >= 0) || g.colour < 0) bad("diameter, coat or colour out of range");
-      p.grains.push_back(g);
-    } catch (const std::invalid_argument&) {
-      bad("not a number");
-    }
+    // every cell whole: stod/stoi read a prefix ("0.4abc") and throw out_of_range on overflow
+    auto real = [&](const std::string& x) {
+      std::size_t used = 0;
+      double v = std::nan("");
+      try {
+        v = std::stod(x, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != x.size() || !std::isfinite(v)) bad("'" + x + "' is not a finite number");
+      return v;
+    };
+    auto whole = [&](const std::string& x) {
+      const double v = real(x);
+      if (v != std::floor(v) || std::fabs(v) > 1e6) bad("'" + x + "' is not a small integer");
+      return static_cast<int>(v);
+    };
+    Grain g;
+    g.centre = {real(f[1]), real(f[2])};
+    g.diameter = real(f[3]);
+    g.coat = real(f[4]);
+    g.colour = whole(f[5]);
+    g.mode = whole(f[6]);
+    if (!(g.diameter > 0) || !(g.coat >= 0) || g.colour < 0) bad("diameter, coat or colour out of range");
+    p.grains.push_back(g);
   }
   if (!(p.box.x() > 0 && p.box.y() > 0) || !(p.tatb_density > 0) || !(p.binder_density > 0))
     throw InputError(fmt::format("{}: the header lacks the box size or the phase densities", file));
+  for (std::size_t i = 0; i < p.grains.size(); ++i) {
+    const Grain& g = p.grains[i];
+    for (int d = 0; d < 2; ++d)
+      if (g.centre[d] < -0.5 * g.diameter || g.centre[d] > p.box[d] + 0.5 * g.diameter)
+        throw InputError(fmt::format("{}: grain {} at ({}, {}) m lies outside the {} x {} m box", file, i, g.centre[0],
+                                     g.centre[1], p.box[0], p.box[1]));
+  }
   if (p.image.nx > 0) {
     p.source = "image";
     int w = 0, h = 0;

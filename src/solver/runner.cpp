@@ -147,6 +147,25 @@ Measurement Runner<D>::measure() {
   return m;
 }
 
+// "; particle p (material 'm') has a non-finite velocity" for the first particle whose state is
+// not finite, or "" if every particle's is: names the culprit of a NaN found in the sums.
+template <int D>
+std::string Runner<D>::first_non_finite_particle() const {
+  const auto& P = sc_.particles;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const Sym3& st = P.stress[p];
+    const char* what = !std::isfinite(P.mass[p]) ? "mass"
+                       : !std::isfinite(P.volume[p]) ? "volume"
+                       : !P.x[p].allFinite() ? "position"
+                       : !P.v[p].allFinite() ? "velocity"
+                       : !std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx) ? "stress"
+                                                                                      : nullptr;
+    if (what)
+      return fmt::format("; particle {} (material '{}') has a non-finite {}", p, sc_.material_names[P.material[p]], what);
+  }
+  return "";
+}
+
 template <int D>
 std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
   std::vector<double> v = {0, m.t, m.dt, m.strain, m.punch_velocity, m.punch_force, m.punch_stress,
@@ -448,24 +467,28 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
   auto emit_row = [&] {
     Measurement m = measure();
     last = m;
-    if (history_.open()) {
-      auto v = row_values(m, static_cast<int>(sc_.bodies.size()));
-      v[0] = static_cast<double>(solver_.step_count());
-      history_.row(v);
-    }
+    auto v = row_values(m, static_cast<int>(sc_.bodies.size()));
+    v[0] = static_cast<double>(solver_.step_count());
+    if (history_.open()) history_.row(v);
+    // The particle checks see velocities and stresses; a NaN that reaches only the sums (mass,
+    // energies, reactions) must stop the run too, with the row kept as evidence.
+    for (std::size_t c = 0; c < v.size(); ++c)
+      if (!std::isfinite(v[c]))
+        throw InstabilityError(fmt::format("step {} (t = {:.6g} s): history column '{}' is {}{}", solver_.step_count(),
+                                           solver_.time(), columns_[c], v[c], first_non_finite_particle()));
     ++rows_written_;
     if (on_row) on_row(m);
     report_progress(m, false);
     return m;
   };
   write_run_json("running", "");
-  if (!resumed_) {
-    emit_row();
-    next_row_ = 1;
-    if (sc_.control.snapshots > 0) write_snapshot();
-    next_snapshot_ = 1;
-  }
   try {
+    if (!resumed_) {
+      emit_row();
+      next_row_ = 1;
+      if (sc_.control.snapshots > 0) write_snapshot();
+      next_snapshot_ = 1;
+    }
     while (solver_.time() < t_end * (1 - 1e-12)) {
       solver_.step();
       const double t = solver_.time();

@@ -78,6 +78,7 @@ class Runner {
   void write_run_json(const std::string& status, const std::string& message) const;
   std::string this_and_earlier_versions() const;  // code versions of all segments, "; "-separated
   void report_progress(const Measurement& m, bool final);
+  std::string first_non_finite_particle() const;
   Scene<D>& sc_;
   RunOptions opt_;
   Solver<D> solver_;

@@ -1,9 +1,12 @@
 #include "solver/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <numeric>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -30,6 +33,23 @@ Vec<D> read_vec(const DeckTable& t, const std::string& key, const Dimension& d,
   Vec<D> out;
   for (int i = 0; i < D; ++i) out[i] = v[static_cast<std::size_t>(i)];
   return out;
+}
+
+// An integer key that sizes something: range-checked before the cast, so a huge value is an
+// error naming the key instead of wrapping around to a small one.
+int int_in(const DeckTable& t, const std::string& key, long lo, long hi, long def) {
+  const long v = t.integer(key, def);
+  if (v < lo || v > hi) t.fail(key, fmt::format("must lie in [{}, {}] (got {})", lo, hi, v));
+  return static_cast<int>(v);
+}
+
+// Memory estimate per grid cell (nodal arrays of one velocity field plus the rigid presences) and
+// per particle (docs/performance.md: 268 bytes per particle with the grid at 2 x 2 per cell).
+constexpr double kGridBytesPerCell = 160, kParticleBytes = 300;
+
+double physical_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && size > 0 ? static_cast<double>(pages) * static_cast<double>(size) : 1e300;
 }
 
 // A region of space a geometry entry or rigid body fills.
@@ -114,10 +134,8 @@ Scene<D> build_scene(const Deck& deck) {
   const DeckTable run = root.table("run");
   sc.description = run.string("title", "");
   sc.control.temperature = run.positive("temperature", dim::temperature, 293.0);
-  sc.control.history_points = static_cast<int>(run.integer("history_points", 400));
-  if (sc.control.history_points < 2) run.fail("history_points", "must be >= 2");
-  sc.control.snapshots = static_cast<int>(run.integer("snapshots", 10));
-  if (sc.control.snapshots < 0) run.fail("snapshots", "must be >= 0");
+  sc.control.history_points = int_in(run, "history_points", 2, 10'000'000, 400);
+  sc.control.snapshots = int_in(run, "snapshots", 0, 100'000, 10);
 
   // ---- solver settings
   if (auto s = root.optional_table("solver")) {
@@ -138,8 +156,7 @@ Scene<D> build_scene(const Deck& deck) {
   const DeckTable gt = root.table("grid");
   const double h = gt.positive("cell_size", dim::length);
   sc.settings.kernel = kernel_from_name(gt.string("shape_function", "ugimp"));
-  sc.settings.ppc = static_cast<int>(gt.integer("particles_per_cell", 2));
-  if (sc.settings.ppc < 1 || sc.settings.ppc > 8) gt.fail("particles_per_cell", "must lie in [1, 8]");
+  sc.settings.ppc = int_in(gt, "particles_per_cell", 1, 8, 2);
   sc.grid.h = h;
 
   std::optional<DeckTable> die_t = root.optional_table("die");
@@ -153,8 +170,7 @@ Scene<D> build_scene(const Deck& deck) {
     die.punch_velocity = die_t->positive("punch_velocity", dim::velocity);
     die.ramp_strain = die_t->number("ramp_strain", 0.002);
     if (!(die.ramp_strain >= 0 && die.ramp_strain < 1)) die_t->fail("ramp_strain", "must lie in [0, 1)");
-    wall_cells = static_cast<int>(die_t->integer("wall_cells", 2));
-    if (wall_cells < 1) die_t->fail("wall_cells", "must be >= 1");
+    wall_cells = int_in(*die_t, "wall_cells", 1, 1000, 2);
     for (auto [key, len] : {std::pair{"width", die.width}, std::pair{"height", die.height}}) {
       const double cells = len / h;
       if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
@@ -180,10 +196,19 @@ Scene<D> build_scene(const Deck& deck) {
     sc.control.end_time = run.positive("end_time", dim::time);
   }
   sc.grid.origin = gmin;
+  double cells = 1;
   for (int d = 0; d < D; ++d) {
     if (!(gmax[d] > gmin[d])) gt.fail("max", "must exceed 'min' in every component");
-    sc.grid.n[d] = static_cast<long>(std::ceil((gmax[d] - gmin[d]) / h - 1e-9)) + 1;
+    cells *= (gmax[d] - gmin[d]) / h;
   }
+  // Refuse a grid this machine cannot hold before allocating any of it: a mistyped size would
+  // otherwise end in std::bad_alloc or in swapping.
+  if (!(cells * kGridBytesPerCell < physical_memory_bytes()))
+    gt.fail("cell_size", fmt::format("{:.3g} cells of {:.3g} m ({}) need about {:.3g} GB of nodal arrays per "
+                                     "velocity field, more than this machine's {:.3g} GB",
+                                     cells, h, die_t ? "die plus walls" : "[grid] min to max",
+                                     cells * kGridBytesPerCell / 1e9, physical_memory_bytes() / 1e9));
+  for (int d = 0; d < D; ++d) sc.grid.n[d] = static_cast<long>(std::ceil((gmax[d] - gmin[d]) / h - 1e-9)) + 1;
 
   // ---- materials (ordered by name: the order is the material index)
   const DeckTable mats = root.table("materials");
@@ -220,7 +245,11 @@ Scene<D> build_scene(const Deck& deck) {
         packing = read_packing(deck.resolve(spec_t->string("packing_dir")));
       } else {
         PackingSpec ps = read_packing_spec(root.table("packing"));
-        if (spec_t->has("seed")) ps.seed = static_cast<std::uint64_t>(spec_t->integer("seed"));
+        if (spec_t->has("seed")) {
+          const long seed = spec_t->integer("seed");
+          if (seed < 0) spec_t->fail("seed", fmt::format("must be >= 0 (got {})", seed));
+          ps.seed = static_cast<std::uint64_t>(seed);
+        }
         packing = generate_packing(ps);
       }
       for (int d = 0; d < 2; ++d) {
@@ -278,14 +307,44 @@ Scene<D> build_scene(const Deck& deck) {
   }
   sc.deformable_fields = static_cast<int>(sc.field_names.size());
   const double pvol = std::pow(h / ppc, D);
+  if (!gs.empty()) {
+    double box = 1;  // the geometry's bounding box, clipped to the grid: the most it can seed
+    for (int d = 0; d < D; ++d) box *= std::max(0.0, std::min(hi[d], gmax[d]) - std::max(lo[d], gmin[d]));
+    const double at_most = box / pvol;
+    if (!(at_most * kParticleBytes < physical_memory_bytes()))
+      root.fail("geometry", fmt::format("the [[geometry]] entries span up to {:.3g} particles ({:.3g} GB), more "
+                                        "than this machine's {:.3g} GB: check their sizes and grid.cell_size",
+                                        at_most, at_most * kParticleBytes / 1e9, physical_memory_bytes() / 1e9));
+  }
+  std::vector<long> seeded(gs.size(), 0);
   if (!gs.empty()) seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
-    for (auto& g : gs) {
+    for (std::size_t k = 0; k < gs.size(); ++k) {
+      const Geo& g = gs[k];
       if (!g.shape.contains(x)) continue;
       const std::size_t p = sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
       sc.particles.v[p] = g.velocity;
+      ++seeded[k];
       return;
     }
   });
+  for (std::size_t k = 0; k < gs.size(); ++k)
+    if (seeded[k] == 0)
+      geoms[k].fail("shape", "this entry produced no particles: it lies outside the grid, is thinner than a "
+                             "particle spacing, or is covered by an earlier entry (the first entry containing a point wins)");
+  // In a die the specimen must lie in the cavity: a body reaching into a wall or the punch would
+  // start interpenetrated, and the contact would fling it out at the first step.
+  if (sc.die)
+    for (std::size_t k = 0; k < gs.size(); ++k) {
+      const double W = sc.die->width, H = sc.die->height, tol = 1e-9 * std::max(W, H);
+      const Shape<D>& sh = gs[k].shape;
+      for (int d = 0; d < D; ++d) {
+        const double top = d == 0 ? W : H;
+        if (sh.lo[d] < -tol || sh.hi[d] > top + tol)
+          geoms[k].fail(geoms[k].string("shape", "rectangle") == "disk" ? "center" : sh.lo[d] < -tol ? "min" : "max",
+                        fmt::format("reaches outside the die cavity (0 to {} m in x, 0 to {} m in y): "
+                                    "the walls and the punch would overlap it", W, H));
+      }
+    }
   if (sc.particles.size() == 0) root.fail("geometry", "the geometry entries produced no particles");
 
   // ---- rigid bodies: the die, then [[rigid]] entries
@@ -333,6 +392,10 @@ Scene<D> build_scene(const Deck& deck) {
   for (auto& r : root.tables("rigid")) {
     RigidBody<D> b;
     b.name = r.string("name");
+    // the name labels history columns and a velocity field: it must not be another field's
+    if (std::find(sc.field_names.begin(), sc.field_names.end(), b.name) != sc.field_names.end())
+      r.fail("name", fmt::format("'{}' is already the name of a field or body (die bodies: wall_left, wall_right, "
+                                 "wall_bottom, punch)", b.name));
     const Shape<D> s = read_shape<D>(r);
     b.normal = read_vec<D>(r, "normal", dim::none, Vec<D>::Zero());
     const std::string c = r.string("contact", "unilateral");
@@ -351,8 +414,9 @@ Scene<D> build_scene(const Deck& deck) {
     for (int d = 0; d < D; ++d) {
       const double s = (x[d] - sc.grid.origin[d]) / h;
       if (!(s >= 1.0 && s < static_cast<double>(sc.grid.n[d]) - 2.0))
-        throw InputError(fmt::format("{} at ({}) lies outside the grid interior: enlarge [grid] min/max",
-                                     what, fmt::join(std::vector<double>(x.data(), x.data() + D), ", ")));
+        throw InputError(fmt::format("{} at ({}) m lies outside the grid interior: {}", what,
+                                     fmt::join(std::vector<double>(x.data(), x.data() + D), ", "),
+                                     sc.die ? "keep [[rigid]] bodies within die.wall_cells of the die" : "enlarge [grid] min/max"));
     }
   };
   for (std::size_t p = 0; p < sc.particles.size(); ++p)

@@ -181,6 +181,14 @@ StudySpec read_study(const std::string& file) {
     auto gset = overrides_of(gt["set"].as_table());
     if (auto set = g.optional_table("set"))
       for (auto& k : set->keys()) set->accept(k);
+    // A group that sets the specimen's seed itself must not have it overwritten by the study's
+    // seeds (specimen.seed also wins over packing.seed in a run deck), or every run would share one.
+    auto is_seed = [](const std::string& k) { return k == "specimen.seed" || k == "packing.seed"; };
+    bool own_seed = is_seed(key);
+    for (const auto& kv : common) own_seed = own_seed || is_seed(kv.first);
+    for (const auto& kv : gset) own_seed = own_seed || is_seed(kv.first);
+    if (own_seed && seeds.size() > 1)
+      g.fail("key", "this group sets the specimen's seed itself: give study.seeds at most one seed");
     for (const auto& v : *values) {
       const std::string text = node_text(v);
       for (long seed : seeds) {
@@ -189,14 +197,27 @@ StudySpec read_study(const std::string& file) {
         r.value_label = text;
         r.seed = seed;
         r.id = fmt::format("{}-{}-s{}", gname, label_of(text), seed);
+        for (const auto& other : s.runs)
+          if (other.id == r.id)
+            g.fail("values", fmt::format("runs '{}' = {} and {} get the same id '{}' (the same value twice, "
+                                         "or two groups of one name): every run needs its own folder",
+                                         key, other.value_label, text, r.id));
         r.set = common;
         r.set.insert(r.set.end(), gset.begin(), gset.end());
         r.set.emplace_back(key, text);
-        r.set.emplace_back("specimen.seed", std::to_string(seed));
+        if (!own_seed) r.set.emplace_back("specimen.seed", std::to_string(seed));
         s.runs.push_back(std::move(r));
       }
     }
   }
+  bool base_has_specimen = true;  // a base deck that does not parse is reported when its runs are built
+  try {
+    base_has_specimen = toml::parse(s.base_text, s.base_deck).contains("specimen");
+  } catch (const toml::parse_error&) {
+  }
+  for (const auto& kv : common) base_has_specimen = base_has_specimen || kv.first.rfind("specimen.", 0) == 0;
+  if (seeds.size() > 1 && !base_has_specimen)
+    st.fail("seeds", "the base deck has no [specimen] (no packed microstructure): every seed would give the same run");
   if (auto a = deck.root().optional_table("analysis")) {
     s.analysis = AnalysisOptions::from_deck(*a);
     std::stringstream text;

@@ -45,7 +45,26 @@ TEST(BadDecks, EachClassNamesItsKey) {
       {"integrator = \"usl\"", "integrator = \"rk4\"", "unknown integrator 'rk4'"},
       {"shape_function = \"ugimp\"", "shape_function = \"cubic\"", "unknown shape function 'cubic'"},
       {"end_strain = 0.04", "end_strain = 0.7", "run.end_strain: must lie in (0, 0.5)"},
-      {"max = [\"0.04 mm\", \"0.48 mm\"]", "max = [\"0.04 mm\", \"0.58 mm\"]", "lies outside the grid interior"},
+      // a specimen reaching into the punch or a wall
+      {"max = [\"0.04 mm\", \"0.48 mm\"]", "max = [\"0.04 mm\", \"0.58 mm\"]",
+       "geometry[0].max: reaches outside the die cavity"},
+      {"min = [\"0 mm\", \"0 mm\"]", "min = [\"-0.01 mm\", \"0 mm\"]", "geometry[0].min: reaches outside the die cavity"},
+      // toml's nan and inf are numbers: every quantity must be finite (inf passed every "> 0")
+      {"density = \"1.934 g/cm3\"", "density = nan", "materials.block.density: must be a finite number"},
+      {"shear_modulus = \"11.5 GPa\"", "shear_modulus = inf", "materials.block.shear_modulus: must be a finite number"},
+      {"mass_scaling = 100", "mass_scaling = inf", "solver.mass_scaling: must be a finite number"},
+      {"cfl = 0.4", "cfl = 0.4\ngravity = [nan, 0]", "solver.gravity: entry 0 must be a finite number"},
+      // integers that size something are range-checked before any cast (2^32 + 200 was 200)
+      {"history_points = 201", "history_points = 4294967496", "run.history_points: must lie in [2, 10000000]"},
+      {"particles_per_cell = 2", "particles_per_cell = 4294967298", "grid.particles_per_cell: must lie in [1, 8]"},
+      // a grid no machine holds is refused before anything is allocated
+      {"cell_size = \"10 um\"", "cell_size = \"1 nm\"", "grid.cell_size: "},
+      // a geometry entry that seeds nothing is an error, not a missing body
+      {"material = \"block\"\n", "material = \"block\"\n[[geometry]]\nmin = [\"0 mm\", \"0 mm\"]\nmax = [\"0.02 mm\", \"0.02 mm\"]\nmaterial = \"block\"\n",
+       "geometry[1].shape: this entry produced no particles"},
+      // a rigid body may not take a die body's name (history columns and fields are named by it)
+      {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"punch\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 mm\"]\nnormal = [0, -1]\n",
+       "rigid[0].name: 'punch' is already the name"},
   };
   for (const auto& c : cases) {
     const std::string msg = error_of(replace(ok, c.from, c.to));

@@ -59,3 +59,47 @@ material = "disk"
   EXPECT_TRUE(fs::exists(dir / "snapshots" / "snapshots.xmf"));
   fs::remove_all(dir);
 }
+
+// A NaN that reaches only the sums of a history row (here a particle's mass: its velocity and
+// stress stay finite) stops the run too, naming the column, with run.json marked "failed".
+TEST(Instability, NonFiniteHistoryValueStopsNamingTheColumn) {
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_unstable_row_" + std::to_string(::getpid()));
+  Scene<2> sc = test::scene_from(R"(
+[run]
+end_time = "5 us"
+history_points = 10
+snapshots = 0
+[grid]
+cell_size = "10 um"
+min = ["-0.1 mm", "-0.1 mm"]
+max = ["0.3 mm", "0.3 mm"]
+[materials.disk]
+model = "linear_elastic"
+density = "2.0 g/cm3"
+youngs_modulus = "1 MPa"
+poisson_ratio = 0.3
+[[geometry]]
+shape = "disk"
+center = ["0.1 mm", "0.1 mm"]
+radius = "0.05 mm"
+material = "disk"
+)");
+  sc.particles.mass[5] = std::nan("");
+  RunOptions o = test::quiet();
+  o.out_dir = dir.string();
+  Runner<2> r(sc, o);
+  std::string msg;
+  try {
+    r.run();
+  } catch (const InstabilityError& e) {
+    msg = e.what();
+  }
+  ASSERT_FALSE(msg.empty()) << "the run did not stop";
+  EXPECT_NE(msg.find("history column '"), std::string::npos) << msg;  // kinetic energy is the first sum it spoils
+  EXPECT_NE(msg.find("particle 5 (material 'disk') has a non-finite mass"), std::string::npos) << msg;
+  std::ifstream f(dir / "run.json");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  EXPECT_NE(ss.str().find("\"status\": \"failed\""), std::string::npos);
+  fs::remove_all(dir);
+}

@@ -52,6 +52,14 @@ TEST(MaterialErrors, NameTheMaterialAndTheKey) {
   expect_error(replace(t, "\"j2_mie_gruneisen\"", "\"j2_mie_grunesen\""), "model", "unknown material model");
   expect_error(t + "shear_modulos = 3.0\n", "shear_modulos", "unknown key");
   expect_error(f + "yield_stress = 3.0\n", "yield_stress", "unknown key for model 'viscoelastic_tait'");
+  // non-finite values: toml reads nan and inf as numbers, and inf passed every "> 0" check
+  expect_error(replace(t, "\"3e-4 1/K\"", "nan"), "thermal_expansion", "must be a finite number");
+  expect_error(replace(t, "\"11.5 GPa\"", "inf"), "shear_modulus", "must be a finite number");
+  expect_error(replace(f, "1e-7, 1e-6", "1e-7, inf"), "prony_shear_times", "entry 1 must be a finite number");
+  // an empty Prony series is no viscoelastic solid (with G_inf = 0 it had no shear stiffness)
+  expect_error(replace(replace(f, "[\"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\"]", "[]"),
+                       "[1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0]", "[]"),
+               "prony_shear_moduli", "at least one Prony term");
 }
 
 TEST(MaterialErrors, PointDriverRejectsBadLoads) {

@@ -81,3 +81,33 @@ TEST(ImageImport, ColourNotInLegendIsAnInputError) {
   EXPECT_THROW(read_image_spec(bad.root().table("packing"), file), InputError);
   std::filesystem::remove_all(dir);
 }
+
+// An image without a single TATB pixel has no grain to simulate, and a contact gap of hundreds of
+// pixels (a unit slip) would make the colouring search run for hours: both are input errors.
+TEST(ImageImport, NoTatbOrAHugeContactGapIsAnInputError) {
+  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_image3";
+  std::filesystem::create_directories(dir);
+  RgbImage white;
+  white.width = 10;
+  white.height = 10;
+  white.rgb.assign(10 * 10 * 3, 255);
+  const std::string blank = (dir / "blank.png").string();
+  write_png(blank, white);
+  const std::string legend = "[packing.legend]\ntatb = \"#FFFF00\"\nbinder = \"#008000\"\nvoid = \"#FFFFFF\"\n";
+  auto error_of = [&](const std::string& deck_text, const std::string& file) {
+    Deck d = Deck::from_string(deck_text, "img.toml");
+    try {
+      import_image(read_image_spec(d.root().table("packing"), file));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string none = error_of("[packing]\npixel_size = \"2 um\"\n" + legend, blank);
+  EXPECT_NE(none.find("no pixel has the TATB colour #FFFF00"), std::string::npos) << none;
+  long t = 0, b = 0;
+  const std::string file = make_image(dir, t, b);
+  const std::string gap = error_of("[packing]\npixel_size = \"2 um\"\ncontact_gap = \"1 mm\"\n" + legend, file);
+  EXPECT_NE(gap.find("contact_gap = 0.001 m spans 500 pixels"), std::string::npos) << gap;
+  std::filesystem::remove_all(dir);
+}

@@ -176,6 +176,41 @@ TEST(Packing, BadDecksNameTheKey) {
   EXPECT_NE(msg(replace(kDeck, "seed = 3", "seed = 3\ncoat = \"thick\"")).find("packing.coat"), std::string::npos);
   EXPECT_NE(msg(replace(kDeck, "seed = 3", "seed = 3\nsede = 4")).find("unknown key 'packing.sede'"),
             std::string::npos);
+  // a box that would need more grains than the packer can place in reasonable time (it used to run
+  // for hours or out of memory)
+  EXPECT_NE(msg(replace(kDeck, "box = [\"1.0 mm\", \"1.2 mm\"]", "box = [\"10 cm\", \"10 cm\"]"))
+                .find("packing.diameter_min: the 0.1 x 0.1 m box could need up to"),
+            std::string::npos)
+      << msg(replace(kDeck, "box = [\"1.0 mm\", \"1.2 mm\"]", "box = [\"10 cm\", \"10 cm\"]"));
+  EXPECT_NE(msg(replace(kDeck, "box = [\"1.0 mm\", \"1.2 mm\"]", "box = [\"1.0 mm\", inf]")).find("packing.box: entry 1 must be a finite number"),
+            std::string::npos);
+}
+
+// A packing folder edited by hand (or corrupted) is read strictly: a cell that is not wholly a
+// number, or a grain centre outside the box, is an error naming the file and line or grain.
+TEST(Packing, EditedPackingFileIsReadStrictly) {
+  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_packing_edit";
+  std::filesystem::remove_all(dir);
+  write_packing(paper_packing(), dir.string());
+  const std::string csv = slurp(dir / "packing.csv");
+  const auto header = csv.find("grain,x_m,y_m,diameter_m,coat_m,colour,mode\n");
+  ASSERT_NE(header, std::string::npos);
+  const auto row = header + std::string("grain,x_m,y_m,diameter_m,coat_m,colour,mode\n").size();
+  const auto comma = csv.find(',', row);  // the first grain's x cell starts after it
+  const auto next = csv.find(',', comma + 1);
+  auto read_with_x = [&](const std::string& x) {
+    std::ofstream(dir / "packing.csv") << csv.substr(0, comma + 1) + x + csv.substr(next);
+    try {
+      read_packing(dir.string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(read_with_x("0.01").find("grain 0 at (0.01"), std::string::npos) << read_with_x("0.01");
+  EXPECT_NE(read_with_x("0.0004abc").find("'0.0004abc' is not a finite number"), std::string::npos) << read_with_x("0.0004abc");
+  EXPECT_NE(read_with_x("nan").find("'nan' is not a finite number"), std::string::npos) << read_with_x("nan");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Packing, UnreachablePorosityStatesTheBestReached) {

@@ -125,6 +125,32 @@ TEST(Study, BadStudyDeckNamesTheKey) {
   fs::remove_all(dir);
 }
 
+// Study decks that would make two runs out of one are refused before anything runs: the same
+// value twice (one run folder for both), several seeds over a deck without a packed specimen
+// (identical runs presented as an ensemble), and study seeds over a group that sets the seed
+// itself (the study seed used to overwrite it, so every "seed" run was seed 1).
+TEST(Study, DeckThatWouldMakeIdenticalRunsIsRefused) {
+  auto error_of = [](const fs::path& dir) {
+    try {
+      read_study((dir / "study.toml").string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  fs::path dir = make_study("", "[10, 10]");
+  EXPECT_NE(error_of(dir).find("get the same id 'scaling-10-s1'"), std::string::npos) << error_of(dir);
+  fs::remove_all(dir);
+  dir = make_study("seeds = [1, 2]\n");
+  EXPECT_NE(error_of(dir).find("study.seeds: the base deck has no [specimen]"), std::string::npos) << error_of(dir);
+  fs::remove_all(dir);
+  dir = make_study();
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\nseeds = [1, 2]\n"
+                                       "[[study.group]]\nname = \"seed\"\nkey = \"specimen.seed\"\nvalues = [5, 6]\n";
+  EXPECT_NE(error_of(dir).find("sets the specimen's seed itself"), std::string::npos) << error_of(dir);
+  fs::remove_all(dir);
+}
+
 // A study-wide [analysis] table applies one linear window to every run, also to runs that were
 // already finished when the study is resumed; its unknown keys are errors.
 TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {

@@ -1,0 +1,108 @@
+// The command line refuses bad input with a message naming the option, column or key, and a
+// non-zero exit code: nothing is ignored, clamped or read in a unit it does not state. Each case
+// runs the pbxmpm binary on a small input (well under a second).
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result pbxmpm(const std::string& args) {
+  const std::string cmd = fmt::format("'{}' {} 2>&1", PBXMPM_BINARY, args);
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class CommandLine : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(PBXMPM_BINARY)) GTEST_SKIP() << "pbxmpm is not built";
+    dir = fs::temp_directory_path() / ("pbx_test_cli_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+  // expects a failure (exit code != 0) whose output contains `what`
+  void expect_refused(const std::string& args, const std::string& what) const {
+    const Result r = pbxmpm(args);
+    EXPECT_NE(r.code, 0) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(what), std::string::npos) << args << "\nexpected '" << what << "' in:\n" << r.output;
+  }
+  fs::path dir;
+};
+
+}  // namespace
+
+// fit reads users' files: an unreadable cell is an error at its line (it used to drop the row), a
+// stress, density or temperature column must state its unit in its name, and the options are
+// range-checked.
+TEST_F(CommandLine, FitRefusesUnreadableCellsUnstatedUnitsAndBadOptions) {
+  const std::string good = write("t.csv", "T_K,strength_MPa,strength\n293,32.8,32.8e6\n333,28.2,28.2e6\n353,24.1,24.1e6\n373,15.6,15.6e6\n");
+  EXPECT_EQ(pbxmpm("fit temperature " + good).code, 0);
+  const std::string cell = write("cell.csv", "T_K,strength_MPa\n293,32.8\n333,28.2 MPa\n353,24.1\n373,15.6\n");
+  expect_refused("fit temperature " + cell, "cell.csv:3: column 'strength_MPa' holds '28.2 MPa', not a finite number");
+  const std::string nan = write("nan.csv", "T_K,strength_MPa\n293,32.8\n333,nan\n353,24.1\n373,15.6\n");
+  expect_refused("fit temperature " + nan, "nan.csv:3: column 'strength_MPa' holds 'nan'");
+  expect_refused("fit temperature " + good + " --strength-col strength", "--strength-col 'strength': the column name must end with its unit");
+  const std::string celsius = write("c.csv", "T_C,strength_MPa\n20,32.8\n60,28.2\n80,24.1\n100,15.6\n");
+  expect_refused("fit temperature " + celsius + " --T-col T_C", "--T-col 'T_C': the column name must end with its unit, _K");
+  expect_refused("fit temperature " + good + " --confidence 1.5", "--confidence: must lie in (0, 1)");
+  const std::string dens = write("d.csv", "density_g_cm3,G_GPa,K_GPa\n1.761,1.03,2.21\n1.787,1.24,2.65\n1.839,1.72,3.68\n");
+  EXPECT_EQ(pbxmpm("fit density " + dens).code, 0);
+  expect_refused("fit density " + dens + " --rho0 '-1 kg/m3'", "--rho0: must be a finite quantity > 0");
+  const std::string curve = write("curve.csv", "strain,punch_stress_Pa\n0.01,1e6\n0.02,2e6\n0.03,2.5e6\n");
+  expect_refused("fit curve " + curve + " --window 5:9", "no row has 'strain' in the window 5 .. 9 % strain");
+  expect_refused("fit curve " + curve + " --window 3:0.5", "--window: needs 0 <= LO < HI");
+}
+
+// analyze's numeric flags are checked, not ignored when out of range (they are read before the
+// run directory, so a missing directory does not hide the error).
+TEST_F(CommandLine, AnalyzeFlagsAreCheckedNotIgnored) {
+  expect_refused("analyze " + dir.string() + " --strength-strain -0.03", "--strength-strain: expected a finite number > 0");
+  expect_refused("analyze " + dir.string() + " --window-tolerance nan", "--window-tolerance: expected a finite number > 0");
+  expect_refused("analyze " + dir.string() + " --ke-ie-limit -1", "--ke-ie-limit: expected a finite number >= 0");
+}
+
+// Thread counts and output folders: a clear message, no crash.
+TEST_F(CommandLine, ThreadsAndOutputFolderAreChecked) {
+  const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string();
+  expect_refused("run " + deck + " --threads 0 -q", "1 to 1024");
+  expect_refused("run " + deck + " --threads 100000 -q", "1 to 1024");
+  expect_refused("run " + deck + " --out /proc/pbxmpm_cannot_be_here -q", "cannot create or write '/proc/pbxmpm_cannot_be_here");
+}
+
+// `pbxmpm material` checks the whole material table, as a run does.
+TEST_F(CommandLine, MaterialCommandRefusesUnknownKeys) {
+  const std::string deck = write("m.toml", "[materials.block]\nmodel = \"linear_elastic\"\ndensity = \"1.934 g/cm3\"\n"
+                                           "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\nfoo = 3\n");
+  expect_refused("material " + deck + " --material block --path uniaxial_strain --strain -0.01 --rate 100",
+                 "unknown key 'materials.block.foo'");
+}
