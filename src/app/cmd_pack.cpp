@@ -1,7 +1,9 @@
 // pbxmpm pack DECK [--out DIR] [--from-image FILE.png]: builds a mesostructure from the deck's
 // [packing] table (or imports a segmented image) and writes packing.csv/.json/.png.
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -26,15 +28,23 @@ void run_pack(const PackOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const Deck deck = Deck::from_file(o.deck);
   const DeckTable t = deck.root().table("packing");
+  // only [packing] is read (and checked), so a run deck packs its specimen as the run would; the
+  // output folder is made first, so an unwritable --out fails before the packing is computed
+  std::filesystem::create_directories(o.out);
   Packing p;
   if (!o.image.empty() || t.has("image")) {
     ImageSpec spec = read_image_spec(t, o.image);
     if (o.image.empty()) spec.file = deck.resolve(spec.file);
-    deck.check_unused();
+    t.check_unused();
     p = import_image(spec);
   } else {
-    const PackingSpec spec = read_packing_spec(t);
-    deck.check_unused();
+    PackingSpec spec = read_packing_spec(t);
+    t.check_unused();
+    if (auto specimen = deck.root().optional_table("specimen"); specimen && specimen->has("seed")) {
+      const long seed = specimen->integer("seed");  // a run deck's specimen.seed wins over packing.seed
+      if (seed < 0) specimen->fail("seed", fmt::format("must be >= 0 (got {})", seed));
+      spec.seed = static_cast<std::uint64_t>(seed);
+    }
     std::printf("pack: target porosity %.4f (density %.4f g/cm3, TMD %.4f g/cm3), seed %llu\n", spec.porosity,
                 (1 - spec.porosity) * spec.tmd() / 1000, spec.tmd() / 1000,
                 static_cast<unsigned long long>(spec.seed));

@@ -106,3 +106,13 @@ TEST_F(CommandLine, MaterialCommandRefusesUnknownKeys) {
   expect_refused("material " + deck + " --material block --path uniaxial_strain --strain -0.01 --rate 100",
                  "unknown key 'materials.block.foo'");
 }
+
+// `pbxmpm pack` on a run deck packs its specimen as the run would (only [packing] is checked, and
+// the deck's specimen.seed wins as in a run); an unwritable --out fails before any packing.
+TEST_F(CommandLine, PackReadsARunDeckAndChecksItsOutputFolderFirst) {
+  const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml").string();
+  const Result r = pbxmpm("pack " + deck + " --out " + (dir / "p").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "p" / "packing.csv"));
+  expect_refused("pack " + deck + " --out /proc/pbxmpm_cannot_be_here", "cannot create or write '/proc/pbxmpm_cannot_be_here");
+}
