@@ -2,6 +2,7 @@
 // deck, builds the 3D material at the requested temperature and drives it through a strain path,
 // writing time, strain and the full stress with units in the column names.
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -33,8 +34,9 @@ double option_quantity(const std::string& text, const Dimension& d, const std::s
   double v = 0;
   const char* end = text.data() + text.size();
   auto [ptr, ec] = std::from_chars(text.data(), end, v);
-  if (ec == std::errc() && ptr == end) return v;
-  return to_si(text, d, option);
+  if (!(ec == std::errc() && ptr == end)) v = to_si(text, d, option);
+  if (!std::isfinite(v)) throw InputError(fmt::format("{}: must be a finite number (got '{}')", option, text));
+  return v;
 }
 
 void run_material(const MaterialOptions& o) {
@@ -51,6 +53,10 @@ void run_material(const MaterialOptions& o) {
   }
   if (o.rate.empty() && o.duration.empty())
     throw InputError("give --rate (1/s) or --duration (s)");
+  if (!o.rate.empty() && load.path == PointPath::step_shear)
+    throw InputError("--rate: step_shear applies its strain in one step; give the hold time with --duration");
+  if (!o.rate.empty() && !o.duration.empty())
+    throw InputError("give --rate or --duration, not both: the loading time is |strain| / rate");
   load.steps = o.steps;
   const double T = option_quantity(o.temperature, dim::temperature, "--temperature");
   if (!(T > 0.0)) throw InputError(fmt::format("--temperature must be > 0 K (got {})", T));

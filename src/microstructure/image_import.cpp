@@ -33,12 +33,13 @@ ImageSpec read_image_spec(const DeckTable& t, const std::string& file) {
   s.tatb_density = t.positive("tatb_density", dim::density, 1934.0);
   s.binder_density = t.positive("binder_density", dim::density, 2020.0);
   s.contact_gap = t.non_negative("contact_gap", dim::length, 2e-6);
-  const DeckTable legend = t.table("legend");
-  s.tatb = parse_colour(legend, "tatb", s.tatb);
-  s.binder = parse_colour(legend, "binder", s.binder);
-  s.void_ = parse_colour(legend, "void", s.void_);
-  if (s.tatb == s.binder || s.tatb == s.void_ || s.binder == s.void_)
-    legend.fail("tatb", "the three phase colours must differ");
+  if (const auto legend = t.optional_table("legend")) {  // without it: the documented default colours
+    s.tatb = parse_colour(*legend, "tatb", s.tatb);
+    s.binder = parse_colour(*legend, "binder", s.binder);
+    s.void_ = parse_colour(*legend, "void", s.void_);
+    if (s.tatb == s.binder || s.tatb == s.void_ || s.binder == s.void_)
+      legend->fail("tatb", "the three phase colours must differ");
+  }
   return s;
 }
 

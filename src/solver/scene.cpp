@@ -155,7 +155,11 @@ Scene<D> build_scene(const Deck& deck) {
   // ---- grid
   const DeckTable gt = root.table("grid");
   const double h = gt.positive("cell_size", dim::length);
-  sc.settings.kernel = kernel_from_name(gt.string("shape_function", "ugimp"));
+  try {
+    sc.settings.kernel = kernel_from_name(gt.string("shape_function", "ugimp"));
+  } catch (const InputError& e) {
+    gt.fail("shape_function", e.what());
+  }
   sc.settings.ppc = int_in(gt, "particles_per_cell", 1, 8, 2);
   sc.grid.h = h;
 

@@ -105,6 +105,13 @@ TEST_F(CommandLine, MaterialCommandRefusesUnknownKeys) {
                                            "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\nfoo = 3\n");
   expect_refused("material " + deck + " --material block --path uniaxial_strain --strain -0.01 --rate 100",
                  "unknown key 'materials.block.foo'");
+  const std::string good = write("g.toml", "[materials.block]\nmodel = \"linear_elastic\"\ndensity = \"1.934 g/cm3\"\n"
+                                           "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\n");
+  const std::string load = "material " + good + " --material block --path uniaxial_strain --strain -0.01 --steps 10";
+  EXPECT_EQ(pbxmpm(load + " --rate 100").code, 0);
+  // the loading time is |strain|/rate: a second definition used to be ignored without a word
+  expect_refused(load + " --rate 100 --duration 1", "give --rate or --duration, not both");
+  expect_refused(load + " --rate 100 --temperature inf", "--temperature: must be a finite number");
 }
 
 // `pbxmpm pack` on a run deck packs its specimen as the run would (only [packing] is checked, and

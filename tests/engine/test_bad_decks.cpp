@@ -43,7 +43,7 @@ TEST(BadDecks, EachClassNamesItsKey) {
       {"mass_scaling = 100", "mass_scaling = 0.5", "solver.mass_scaling: must be >= 1"},
       {"mass_scaling = 100", "mass_scaling = \"fast\"", "solver.mass_scaling"},
       {"integrator = \"usl\"", "integrator = \"rk4\"", "unknown integrator 'rk4'"},
-      {"shape_function = \"ugimp\"", "shape_function = \"cubic\"", "unknown shape function 'cubic'"},
+      {"shape_function = \"ugimp\"", "shape_function = \"cubic\"", "grid.shape_function: unknown shape function 'cubic'"},
       {"end_strain = 0.04", "end_strain = 0.7", "run.end_strain: must lie in (0, 0.5)"},
       // a specimen reaching into the punch or a wall
       {"max = [\"0.04 mm\", \"0.48 mm\"]", "max = [\"0.04 mm\", \"0.58 mm\"]",

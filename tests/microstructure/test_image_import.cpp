@@ -84,6 +84,7 @@ TEST(ImageImport, ColourNotInLegendIsAnInputError) {
 
 // An image without a single TATB pixel has no grain to simulate, and a contact gap of hundreds of
 // pixels (a unit slip) would make the colouring search run for hours: both are input errors.
+// The legend table is optional.
 TEST(ImageImport, NoTatbOrAHugeContactGapIsAnInputError) {
   const auto dir = std::filesystem::temp_directory_path() / "pbx_test_image3";
   std::filesystem::create_directories(dir);
@@ -109,5 +110,7 @@ TEST(ImageImport, NoTatbOrAHugeContactGapIsAnInputError) {
   const std::string file = make_image(dir, t, b);
   const std::string gap = error_of("[packing]\npixel_size = \"2 um\"\ncontact_gap = \"1 mm\"\n" + legend, file);
   EXPECT_NE(gap.find("contact_gap = 0.001 m spans 500 pixels"), std::string::npos) << gap;
+  // without a [packing.legend] the documented default colours apply (it used to be required)
+  EXPECT_EQ(error_of("[packing]\npixel_size = \"2 um\"\n", file), "(no error)");
   std::filesystem::remove_all(dir);
 }
