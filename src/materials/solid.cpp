@@ -34,7 +34,15 @@ SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx) {
   s.reference_temperature = t.positive("reference_temperature", dim::temperature, 293.0);
   const double rho_ref = t.positive("density", dim::density);
   const double alpha_v = t.quantity("thermal_expansion", dim::per_temperature, 0.0);
-  s.density = rho_ref * std::exp(-alpha_v * (s.temperature - s.reference_temperature));
+  // The expansion law is meant for tens of kelvin around the reference: a run temperature that
+  // changes the density by more than 20 % is a slip (a unit, a sign), not a state to compute.
+  const double strain_v = alpha_v * (s.temperature - s.reference_temperature);
+  if (std::fabs(strain_v) > 0.2)
+    t.fail("thermal_expansion", fmt::format("{:.4g} 1/K at {:.6g} K (reference {:.6g} K) changes the density by {:.3g} %: "
+                                            "beyond the thermal expansion this model is for (at most 20 %)",
+                                            alpha_v, s.temperature, s.reference_temperature,
+                                            100 * (std::exp(-strain_v) - 1)));
+  s.density = rho_ref * std::exp(-strain_v);
   return s;
 }
 
