@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,13 +15,14 @@
 namespace fs = std::filesystem;
 using namespace pbx;
 
-TEST(Instability, NonFiniteStateStopsNamingParticleAndKeepsOutput) {
-  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_unstable_" + std::to_string(::getpid()));
-  Scene<2> sc = test::scene_from(R"(
+namespace {
+// A soft elastic disk in free flight.
+std::string disk_deck(const char* end_time, int history_points, int snapshots) {
+  return fmt::format(R"(
 [run]
-end_time = "50 us"
-history_points = 100
-snapshots = 2
+end_time = "{}"
+history_points = {}
+snapshots = {}
 [grid]
 cell_size = "10 um"
 min = ["-0.1 mm", "-0.1 mm"]
@@ -35,7 +37,13 @@ shape = "disk"
 center = ["0.1 mm", "0.1 mm"]
 radius = "0.05 mm"
 material = "disk"
-)");
+)", end_time, history_points, snapshots);
+}
+}  // namespace
+
+TEST(Instability, NonFiniteStateStopsNamingParticleAndKeepsOutput) {
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_unstable_" + std::to_string(::getpid()));
+  Scene<2> sc = test::scene_from(disk_deck("50 us", 100, 2));
   // a corrupted state (as a bad material law or an overflow would leave): one velocity is NaN
   sc.particles.v[17] = Vec<2>(std::nan(""), 0.0);
   RunOptions o = test::quiet();
@@ -64,26 +72,7 @@ material = "disk"
 // stress stay finite) stops the run too, naming the column, with run.json marked "failed".
 TEST(Instability, NonFiniteHistoryValueStopsNamingTheColumn) {
   const fs::path dir = fs::temp_directory_path() / ("pbxmpm_unstable_row_" + std::to_string(::getpid()));
-  Scene<2> sc = test::scene_from(R"(
-[run]
-end_time = "5 us"
-history_points = 10
-snapshots = 0
-[grid]
-cell_size = "10 um"
-min = ["-0.1 mm", "-0.1 mm"]
-max = ["0.3 mm", "0.3 mm"]
-[materials.disk]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 MPa"
-poisson_ratio = 0.3
-[[geometry]]
-shape = "disk"
-center = ["0.1 mm", "0.1 mm"]
-radius = "0.05 mm"
-material = "disk"
-)");
+  Scene<2> sc = test::scene_from(disk_deck("5 us", 10, 0));
   sc.particles.mass[5] = std::nan("");
   RunOptions o = test::quiet();
   o.out_dir = dir.string();
