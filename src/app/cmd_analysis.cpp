@@ -29,11 +29,18 @@ namespace {
 std::pair<double, double> range_option(const std::string& text, const std::string& option) {
   const auto colon = text.find(':');
   if (colon == std::string::npos) throw InputError(fmt::format("{}: expected LO:HI, got '{}'", option, text));
-  try {
-    return {std::stod(text.substr(0, colon)), std::stod(text.substr(colon + 1))};
-  } catch (const std::exception&) {
-    throw InputError(fmt::format("{}: expected two numbers LO:HI, got '{}'", option, text));
-  }
+  auto whole = [&](const std::string& part) {
+    std::size_t used = 0;
+    double v = std::nan("");
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+    }
+    if (used != part.size() || !std::isfinite(v))
+      throw InputError(fmt::format("{}: expected two finite numbers LO:HI, got '{}'", option, text));
+    return v;
+  };
+  return {whole(text.substr(0, colon)), whole(text.substr(colon + 1))};
 }
 
 // A quantity given on the command line, which must be finite and > 0.

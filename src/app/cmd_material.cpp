@@ -53,10 +53,9 @@ void run_material(const MaterialOptions& o) {
   }
   if (o.rate.empty() && o.duration.empty())
     throw InputError("give --rate (1/s) or --duration (s)");
-  if (!o.rate.empty() && load.path == PointPath::step_shear)
-    throw InputError("--rate: step_shear applies its strain in one step; give the hold time with --duration");
   if (!o.rate.empty() && !o.duration.empty())
-    throw InputError("give --rate or --duration, not both: the loading time is |strain| / rate");
+    throw InputError("give --rate or --duration, not both: the loading time (step_shear: the hold time) is "
+                     "|strain| / rate");
   load.steps = o.steps;
   const double T = option_quantity(o.temperature, dim::temperature, "--temperature");
   if (!(T > 0.0)) throw InputError(fmt::format("--temperature must be > 0 K (got {})", T));

@@ -28,14 +28,15 @@ void run_pack(const PackOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const Deck deck = Deck::from_file(o.deck);
   const DeckTable t = deck.root().table("packing");
-  // only [packing] is read (and checked), so a run deck packs its specimen as the run would; the
-  // output folder is made first, so an unwritable --out fails before the packing is computed
-  std::filesystem::create_directories(o.out);
+  // Only [packing] is read (and checked), so a run deck packs its specimen as the run would. The
+  // output folder is made once the deck is valid and before the packing is computed, so an
+  // unwritable --out fails at once.
   Packing p;
   if (!o.image.empty() || t.has("image")) {
     ImageSpec spec = read_image_spec(t, o.image);
     if (o.image.empty()) spec.file = deck.resolve(spec.file);
     t.check_unused();
+    std::filesystem::create_directories(o.out);
     p = import_image(spec);
   } else {
     PackingSpec spec = read_packing_spec(t);
@@ -45,6 +46,7 @@ void run_pack(const PackOptions& o) {
       if (seed < 0) specimen->fail("seed", fmt::format("must be >= 0 (got {})", seed));
       spec.seed = static_cast<std::uint64_t>(seed);
     }
+    std::filesystem::create_directories(o.out);
     std::printf("pack: target porosity %.4f (density %.4f g/cm3, TMD %.4f g/cm3), seed %llu\n", spec.porosity,
                 (1 - spec.porosity) * spec.tmd() / 1000, spec.tmd() / 1000,
                 static_cast<unsigned long long>(spec.seed));

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pbxmpm: run stopped, unstable: %s\n", e.what());
     return 3;
   } catch (const std::filesystem::filesystem_error& e) {
-    std::fprintf(stderr, "pbxmpm: error: cannot create or write '%s' (check --out and the permissions): %s\n",
+    std::fprintf(stderr, "pbxmpm: error: file system error on '%s': %s (for an output folder: check --out and "
+                         "its permissions)\n",
                  e.path1().string().c_str(), e.code().message().c_str());
     return 1;
   } catch (const std::bad_alloc&) {

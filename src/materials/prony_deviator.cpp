@@ -21,7 +21,6 @@ void read_series(const DeckTable& t, const std::string& mkey, const std::string&
   tau = t.quantities(tkey, dim::time);
   if (m.size() != tau.size())
     t.fail(tkey, fmt::format("has {} entries but {} has {}", tau.size(), mkey, m.size()));
-  if (m.empty()) t.fail(mkey, "must list at least one Prony term");
   for (double v : m)
     if (!(v > 0.0)) t.fail(mkey, fmt::format("every modulus must be > 0 (got {} Pa)", v));
   for (double v : tau)
@@ -33,6 +32,7 @@ PronyDeviator PronyDeviator::from_deck(const DeckTable& t, const SolidSetup& s) 
   Params p;
   p.G_inf = t.non_negative("long_term_shear_modulus", dim::pressure);
   read_series(t, "prony_shear_moduli", "prony_shear_times", p.G, p.tau);
+  if (p.G.empty()) t.fail("prony_shear_moduli", "must list at least one Prony term");
   if (t.has("prony_bulk_moduli") || t.has("prony_bulk_times"))
     read_series(t, "prony_bulk_moduli", "prony_bulk_times", p.K, p.tauK);
   p.shift = TimeTemperatureShift::from_deck(t);

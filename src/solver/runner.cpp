@@ -469,13 +469,14 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
     last = m;
     auto v = row_values(m, static_cast<int>(sc_.bodies.size()));
     v[0] = static_cast<double>(solver_.step_count());
-    if (history_.open()) history_.row(v);
     // The particle checks see velocities and stresses; a NaN that reaches only the sums (mass,
-    // energies, reactions) must stop the run too, with the row kept as evidence.
+    // energies, reactions) must stop the run too. The row is not written: history.csv holds only
+    // finite rows, so a failed run can still be analysed up to its failure.
     for (std::size_t c = 0; c < v.size(); ++c)
       if (!std::isfinite(v[c]))
         throw InstabilityError(fmt::format("step {} (t = {:.6g} s): history column '{}' is {}{}", solver_.step_count(),
                                            solver_.time(), columns_[c], v[c], first_non_finite_particle()));
+    if (history_.open()) history_.row(v);
     ++rows_written_;
     if (on_row) on_row(m);
     report_progress(m, false);

@@ -43,9 +43,10 @@ int int_in(const DeckTable& t, const std::string& key, long lo, long hi, long de
   return static_cast<int>(v);
 }
 
-// Memory estimate per grid cell (nodal arrays of one velocity field plus the rigid presences) and
-// per particle (docs/performance.md: 268 bytes per particle with the grid at 2 x 2 per cell).
-constexpr double kGridBytesPerCell = 160, kParticleBytes = 300;
+// Memory per node and deformable velocity field (mass and seven 2-vectors, grid/grid.hpp; 3-D
+// needs more, so this errs low there) and per particle (docs/performance.md: 268 bytes per
+// particle, grid included, at 2 x 2 particles per cell).
+constexpr double kGridBytesPerNodeField = 120, kParticleBytes = 300;
 
 double physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
@@ -200,19 +201,22 @@ Scene<D> build_scene(const Deck& deck) {
     sc.control.end_time = run.positive("end_time", dim::time);
   }
   sc.grid.origin = gmin;
-  double cells = 1;
+  std::array<double, D> nodes_per_axis{};
+  double nodes = 1;
   for (int d = 0; d < D; ++d) {
     if (!(gmax[d] > gmin[d])) gt.fail("max", "must exceed 'min' in every component");
-    cells *= (gmax[d] - gmin[d]) / h;
+    nodes_per_axis[static_cast<std::size_t>(d)] = std::ceil((gmax[d] - gmin[d]) / h - 1e-9) + 1;
+    nodes *= nodes_per_axis[static_cast<std::size_t>(d)];
   }
-  // Refuse a grid this machine cannot hold before allocating any of it: a mistyped size would
-  // otherwise end in std::bad_alloc or in swapping.
-  if (!(cells * kGridBytesPerCell < physical_memory_bytes()))
-    gt.fail("cell_size", fmt::format("{:.3g} cells of {:.3g} m ({}) need about {:.3g} GB of nodal arrays per "
+  // Refuse a grid this machine cannot hold before allocating any of it (and before the casts
+  // below): a mistyped size would otherwise end in std::bad_alloc or in swapping. The exact check,
+  // with the number of velocity fields, follows when the fields are known.
+  if (!(nodes * kGridBytesPerNodeField < physical_memory_bytes()))
+    gt.fail("cell_size", fmt::format("{:.3g} nodes of {:.3g} m spacing ({}) need about {:.3g} GB of nodal arrays per "
                                      "velocity field, more than this machine's {:.3g} GB",
-                                     cells, h, die_t ? "die plus walls" : "[grid] min to max",
-                                     cells * kGridBytesPerCell / 1e9, physical_memory_bytes() / 1e9));
-  for (int d = 0; d < D; ++d) sc.grid.n[d] = static_cast<long>(std::ceil((gmax[d] - gmin[d]) / h - 1e-9)) + 1;
+                                     nodes, h, die_t ? "die plus walls" : "[grid] min to max",
+                                     nodes * kGridBytesPerNodeField / 1e9, physical_memory_bytes() / 1e9));
+  for (int d = 0; d < D; ++d) sc.grid.n[d] = static_cast<long>(nodes_per_axis[static_cast<std::size_t>(d)]);
 
   // ---- materials (ordered by name: the order is the material index)
   const DeckTable mats = root.table("materials");
@@ -263,6 +267,12 @@ Scene<D> build_scene(const Deck& deck) {
                                                      packing.box[0], packing.box[1], sc.die->width, sc.die->height));
       }
       sc.packing_stats = packing.stats;
+      const double specimen_particles = sc.die->width * sc.die->height / std::pow(h / ppc, 2);
+      if (!(specimen_particles * kParticleBytes < physical_memory_bytes()))
+        gt.fail("cell_size", fmt::format("the specimen would have {:.3g} particles ({:.3g} GB) at this cell size and "
+                                         "particles_per_cell, more than this machine's {:.3g} GB",
+                                         specimen_particles, specimen_particles * kParticleBytes / 1e9,
+                                         physical_memory_bytes() / 1e9));
       auto field_of = [&](const std::string& fname) {
         auto [fit, inserted] = field_index.try_emplace(fname, static_cast<int>(field_index.size()));
         if (inserted) sc.field_names.push_back(fname);
@@ -455,6 +465,14 @@ Scene<D> build_scene(const Deck& deck) {
     sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
   }
 
+  {
+    const double bytes = static_cast<double>(sc.grid.nodes()) *
+                         (kGridBytesPerNodeField * sc.deformable_fields + 8.0 * static_cast<double>(sc.bodies.size()));
+    if (!(bytes < physical_memory_bytes()))
+      gt.fail("cell_size", fmt::format("the grid's {} nodes with {} velocity fields need {:.3g} GB, more than this "
+                                       "machine's {:.3g} GB", sc.grid.nodes(), sc.deformable_fields, bytes / 1e9,
+                                       physical_memory_bytes() / 1e9));
+  }
   sc.grid.allocate(sc.deformable_fields, static_cast<int>(sc.bodies.size()));
   return sc;
 }

@@ -1,8 +1,10 @@
 #include "study/study.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -148,7 +150,7 @@ StudySpec read_study(const std::string& file) {
   if (st.has("seeds")) {
     seeds.clear();
     for (double v : st.quantities("seeds", dim::none)) {
-      if (v != static_cast<double>(static_cast<long>(v)) || v < 0) st.fail("seeds", "must be non-negative integers");
+      if (!(v >= 0 && v < 9.0e15) || v != std::floor(v)) st.fail("seeds", "must be non-negative integers below 9e15");
       seeds.push_back(static_cast<long>(v));
     }
     if (seeds.empty()) st.fail("seeds", "must list at least one seed");
@@ -181,14 +183,20 @@ StudySpec read_study(const std::string& file) {
     auto gset = overrides_of(gt["set"].as_table());
     if (auto set = g.optional_table("set"))
       for (auto& k : set->keys()) set->accept(k);
-    // A group that sets the specimen's seed itself must not have it overwritten by the study's
-    // seeds (specimen.seed also wins over packing.seed in a run deck), or every run would share one.
+    // A group whose key or overrides give the specimen's seed must keep it: the study's own seed
+    // would overwrite it (and specimen.seed wins over packing.seed in a run deck), so every run
+    // would share one seed. Such a group takes one study seed, and its runs record the seed used.
     auto is_seed = [](const std::string& k) { return k == "specimen.seed" || k == "packing.seed"; };
-    bool own_seed = is_seed(key);
-    for (const auto& kv : common) own_seed = own_seed || is_seed(kv.first);
-    for (const auto& kv : gset) own_seed = own_seed || is_seed(kv.first);
-    if (own_seed && seeds.size() > 1)
-      g.fail("key", "this group sets the specimen's seed itself: give study.seeds at most one seed");
+    std::optional<std::string> set_seed;  // the seed text a [set] gives (group set over study set)
+    for (const auto& kv : common)
+      if (is_seed(kv.first)) set_seed = kv.second;
+    for (const auto& kv : gset)
+      if (is_seed(kv.first)) set_seed = kv.second;
+    const bool own_seed = is_seed(key) || set_seed.has_value();
+    if (own_seed && seeds.size() > 1) {
+      if (is_seed(key)) g.fail("key", fmt::format("this group varies '{}' itself: give study.seeds at most one seed", key));
+      st.fail("seeds", fmt::format("group '{}' gets the specimen's seed from a [set] table: give at most one seed", gname));
+    }
     for (const auto& v : *values) {
       const std::string text = node_text(v);
       for (long seed : seeds) {
@@ -196,7 +204,15 @@ StudySpec read_study(const std::string& file) {
         r.group = gname;
         r.value_label = text;
         r.seed = seed;
-        r.id = fmt::format("{}-{}-s{}", gname, label_of(text), seed);
+        if (own_seed) {  // the seed the run really uses
+          const std::string& used = is_seed(key) ? text : *set_seed;
+          try {
+            r.seed = std::stol(used);
+          } catch (const std::exception&) {
+            g.fail(is_seed(key) ? "values" : "set", fmt::format("seed '{}' is not an integer", used));
+          }
+        }
+        r.id = fmt::format("{}-{}-s{}", gname, label_of(text), r.seed);
         for (const auto& other : s.runs)
           if (other.id == r.id)
             g.fail("values", fmt::format("runs '{}' = {} and {} get the same id '{}' (the same value twice, "
@@ -205,7 +221,8 @@ StudySpec read_study(const std::string& file) {
         r.set = common;
         r.set.insert(r.set.end(), gset.begin(), gset.end());
         r.set.emplace_back(key, text);
-        if (!own_seed) r.set.emplace_back("specimen.seed", std::to_string(seed));
+        // specimen.seed decides in a run deck: it carries the study's seed, or the group's own
+        r.set.emplace_back("specimen.seed", std::to_string(r.seed));
         s.runs.push_back(std::move(r));
       }
     }
@@ -215,7 +232,9 @@ StudySpec read_study(const std::string& file) {
     base_has_specimen = toml::parse(s.base_text, s.base_deck).contains("specimen");
   } catch (const toml::parse_error&) {
   }
-  for (const auto& kv : common) base_has_specimen = base_has_specimen || kv.first.rfind("specimen.", 0) == 0;
+  for (const auto& r : s.runs)
+    for (const auto& kv : r.set)
+      if (kv.first != "specimen.seed") base_has_specimen = base_has_specimen || kv.first.rfind("specimen.", 0) == 0;
   if (seeds.size() > 1 && !base_has_specimen)
     st.fail("seeds", "the base deck has no [specimen] (no packed microstructure): every seed would give the same run");
   if (auto a = deck.root().optional_table("analysis")) {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <sys/wait.h>
@@ -81,6 +82,7 @@ TEST_F(CommandLine, FitRefusesUnreadableCellsUnstatedUnitsAndBadOptions) {
   const std::string curve = write("curve.csv", "strain,punch_stress_Pa\n0.01,1e6\n0.02,2e6\n0.03,2.5e6\n");
   expect_refused("fit curve " + curve + " --window 5:9", "no row has 'strain' in the window 5 .. 9 % strain");
   expect_refused("fit curve " + curve + " --window 3:0.5", "--window: needs 0 <= LO < HI");
+  expect_refused("fit curve " + curve + " --window 0.5:3:4", "--window: expected two finite numbers LO:HI");
 }
 
 // analyze's numeric flags are checked, not ignored when out of range (they are read before the
@@ -96,7 +98,7 @@ TEST_F(CommandLine, ThreadsAndOutputFolderAreChecked) {
   const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string();
   expect_refused("run " + deck + " --threads 0 -q", "1 to 1024");
   expect_refused("run " + deck + " --threads 100000 -q", "1 to 1024");
-  expect_refused("run " + deck + " --out /proc/pbxmpm_cannot_be_here -q", "cannot create or write '/proc/pbxmpm_cannot_be_here");
+  expect_refused("run " + deck + " --out /proc/pbxmpm_cannot_be_here -q", "file system error on '/proc/pbxmpm_cannot_be_here");
 }
 
 // `pbxmpm material` checks the whole material table, as a run does.
@@ -117,9 +119,14 @@ TEST_F(CommandLine, MaterialCommandRefusesUnknownKeys) {
 // `pbxmpm pack` on a run deck packs its specimen as the run would (only [packing] is checked, and
 // the deck's specimen.seed wins as in a run); an unwritable --out fails before any packing.
 TEST_F(CommandLine, PackReadsARunDeckAndChecksItsOutputFolderFirst) {
-  const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml").string();
+  std::ifstream in(fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = text.find("seed = 1", text.find("[specimen]"));
+  ASSERT_NE(at, std::string::npos);
+  const std::string deck = write("base.toml", text.replace(at, 8, "seed = 7"));
   const Result r = pbxmpm("pack " + deck + " --out " + (dir / "p").string());
   EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("seed 7"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "p" / "packing.csv"));
-  expect_refused("pack " + deck + " --out /proc/pbxmpm_cannot_be_here", "cannot create or write '/proc/pbxmpm_cannot_be_here");
+  expect_refused("pack " + deck + " --out /proc/pbxmpm_cannot_be_here", "file system error on '/proc/pbxmpm_cannot_be_here");
 }

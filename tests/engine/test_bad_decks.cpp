@@ -58,7 +58,7 @@ TEST(BadDecks, EachClassNamesItsKey) {
       {"history_points = 201", "history_points = 4294967496", "run.history_points: must lie in [2, 10000000]"},
       {"particles_per_cell = 2", "particles_per_cell = 4294967298", "grid.particles_per_cell: must lie in [1, 8]"},
       // a grid no machine holds is refused before anything is allocated
-      {"cell_size = \"10 um\"", "cell_size = \"1 nm\"", "grid.cell_size: "},
+      {"cell_size = \"10 um\"", "cell_size = \"1 nm\"", "more than this machine's"},
       // a geometry entry that seeds nothing is an error, not a missing body
       {"material = \"block\"\n", "material = \"block\"\n[[geometry]]\nmin = [\"0 mm\", \"0 mm\"]\nmax = [\"0.02 mm\", \"0.02 mm\"]\nmaterial = \"block\"\n",
        "geometry[1].shape: this entry produced no particles"},

@@ -44,18 +44,22 @@ material = "disk"
 TEST(Instability, NonFiniteStateStopsNamingParticleAndKeepsOutput) {
   const fs::path dir = fs::temp_directory_path() / ("pbxmpm_unstable_" + std::to_string(::getpid()));
   Scene<2> sc = test::scene_from(disk_deck("50 us", 100, 2));
-  // a corrupted state (as a bad material law or an overflow would leave): one velocity is NaN
-  sc.particles.v[17] = Vec<2>(std::nan(""), 0.0);
   RunOptions o = test::quiet();
   o.out_dir = dir.string();
   Runner<2> r(sc, o);
   std::string msg;
+  int rows = 0;
   try {
-    r.run();
+    // a state corrupted mid-run (as a bad material law or an overflow would leave): after the
+    // second history row one velocity becomes NaN; the solver's particle checks must catch it
+    r.run([&](const Measurement&) {
+      if (++rows == 2) sc.particles.v[17] = Vec<2>(std::nan(""), 0.0);
+    });
   } catch (const InstabilityError& e) {
     msg = e.what();
   }
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
+  EXPECT_EQ(msg.find("history column"), std::string::npos) << "caught by the row check, not the particle check: " << msg;
   EXPECT_NE(msg.find("particle"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'disk'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("step"), std::string::npos) << msg;

@@ -662,7 +662,7 @@ def main():
         eg = np.linspace(w[0], w[1], 51)
         with open(os.path.join(out, "model_card_curves.csv"), "w", newline="") as f:
             wtr = csv.writer(f)
-            wtr.writerow(["strain"] + [f"stress_Pa_T{T:.0f}K" for T in Ts_card])
+            wtr.writerow(["strain"] + [f"stress_T{T:.0f}K_Pa" for T in Ts_card])
             for e in eg:
                 wtr.writerow([f"{e / 100:.6g}"] + [f"{eq13(T, par(f13, 'sigma0'), par(f13, 'alpha'), T0) * eq14(e, par(f14, 'A'), par(f14, 'B'), par(f14, 'n')):.6g}" for T in Ts_card])
         rep.h("Macroscale model card")
