@@ -18,6 +18,7 @@
 #include "analysis/temperature_law.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "core/parse_number.hpp"
 #include "core/units.hpp"
 #include "io/deck.hpp"
 
@@ -30,15 +31,9 @@ std::pair<double, double> range_option(const std::string& text, const std::strin
   const auto colon = text.find(':');
   if (colon == std::string::npos) throw InputError(fmt::format("{}: expected LO:HI, got '{}'", option, text));
   auto whole = [&](const std::string& part) {
-    std::size_t used = 0;
-    double v = std::nan("");
-    try {
-      v = std::stod(part, &used);
-    } catch (const std::exception&) {
-    }
-    if (used != part.size() || !std::isfinite(v))
-      throw InputError(fmt::format("{}: expected two finite numbers LO:HI, got '{}'", option, text));
-    return v;
+    const auto v = parse_finite(part);
+    if (!v) throw InputError(fmt::format("{}: expected two finite numbers LO:HI, got '{}'", option, text));
+    return *v;
   };
   return {whole(text.substr(0, colon)), whole(text.substr(colon + 1))};
 }
@@ -52,15 +47,10 @@ double quantity_option(const std::string& text, const Dimension& d, const std::s
 
 // A plain number option, or InputError naming the option: flags must never be ignored silently.
 double number_option(const std::string& text, const std::string& option, double lo, bool lo_open) {
-  std::size_t used = 0;
-  double v = std::nan("");
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-  }
-  if (used != text.size() || !std::isfinite(v) || (lo_open ? !(v > lo) : !(v >= lo)))
+  const auto v = parse_finite(text);
+  if (!v || (lo_open ? !(*v > lo) : !(*v >= lo)))
     throw InputError(fmt::format("{}: expected a finite number {} {} (got '{}')", option, lo_open ? ">" : ">=", lo, text));
-  return v;
+  return *v;
 }
 
 void check_confidence(double c) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/parse_number.hpp"
 #include "microstructure/packing.hpp"
 #include "microstructure/phase_map.hpp"
 #include "microstructure/png_image.hpp"
@@ -166,14 +167,9 @@ Packing read_packing(const std::string& dir) {
       if (!std::getline(ss, x, ',')) bad("expected 7 columns");
     // every cell whole: stod/stoi read a prefix ("0.4abc") and throw out_of_range on overflow
     auto real = [&](const std::string& x) {
-      std::size_t used = 0;
-      double v = std::nan("");
-      try {
-        v = std::stod(x, &used);
-      } catch (const std::exception&) {
-      }
-      if (used != x.size() || !std::isfinite(v)) bad("'" + x + "' is not a finite number");
-      return v;
+      const auto v = parse_finite(x);
+      if (!v) bad("'" + x + "' is not a finite number");
+      return v.value_or(0.0);
     };
     auto whole = [&](const std::string& x) {
       const double v = real(x);
