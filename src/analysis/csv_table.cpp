@@ -46,7 +46,7 @@ CsvTable CsvTable::parse(const std::string& text, const std::string& source) {
   }
   if (t.names_.empty()) throw InputError(fmt::format("{}: no header line", source));
   t.cols_.assign(t.names_.size(), {});
-  t.bad_.assign(t.names_.size(), {});
+  t.first_bad_.assign(t.names_.size(), {0, std::string()});
   while (std::getline(in, line)) {
     ++lineno;
     if (trim(line).empty() || trim(line)[0] == '#') continue;
@@ -67,9 +67,9 @@ CsvTable CsvTable::parse(const std::string& text, const std::string& source) {
         }
       }
       t.cols_[c].push_back(x);
-      t.bad_[c].push_back(std::isfinite(x) ? std::string() : cells[c].empty() ? std::string("(empty)") : cells[c]);
+      if (!std::isfinite(x) && t.first_bad_[c].first == 0)
+        t.first_bad_[c] = {static_cast<std::size_t>(lineno), cells[c].empty() ? std::string("(empty)") : cells[c]};
     }
-    t.lines_.push_back(lineno);
     ++t.rows_;
   }
   return t;
@@ -100,10 +100,8 @@ const std::vector<double>& CsvTable::column(const std::string& name) const {
 const std::vector<double>& CsvTable::numbers(const std::string& name) const {
   const std::vector<double>& v = column(name);
   const std::size_t c = static_cast<std::size_t>(std::find(names_.begin(), names_.end(), name) - names_.begin());
-  for (std::size_t r = 0; r < rows_; ++r)
-    if (!bad_[c][r].empty())
-      throw InputError(fmt::format("{}:{}: column '{}' holds '{}', not a finite number", source_, lines_[r], name,
-                                   bad_[c][r]));
+  const auto& [line, text] = first_bad_[c];
+  if (line > 0) throw InputError(fmt::format("{}:{}: column '{}' holds '{}', not a finite number", source_, line, name, text));
   return v;
 }
 

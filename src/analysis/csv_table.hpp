@@ -2,6 +2,7 @@
 // Numeric CSV tables with a header line (history.csv, users' own experiment files).
 // Columns are looked up by name; unknown extra columns are kept and ignored by callers.
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pbx {
@@ -27,8 +28,8 @@ class CsvTable {
   std::string source_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> cols_;
-  std::vector<std::size_t> lines_;  // file line of each row
-  std::vector<std::vector<std::string>> bad_;  // per column, per row: the text of a cell that is not a finite number ("" if it is)
+  // per column: file line and text of its first cell that is not a finite number (line 0: none)
+  std::vector<std::pair<std::size_t, std::string>> first_bad_;
   std::size_t rows_ = 0;
 };
 

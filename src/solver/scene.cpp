@@ -53,6 +53,14 @@ double physical_memory_bytes() {
   return pages > 0 && size > 0 ? static_cast<double>(pages) * static_cast<double>(size) : 1e300;
 }
 
+// Refuses, naming `key`, what would need more bytes than the machine has: "<what> need(s) N GB,
+// more than this machine's M GB".
+void check_fits(const DeckTable& t, const std::string& key, double bytes, const std::string& what) {
+  const double have = physical_memory_bytes();
+  if (!(bytes < have))
+    t.fail(key, fmt::format("{} need about {:.3g} GB, more than this machine's {:.3g} GB", what, bytes / 1e9, have / 1e9));
+}
+
 // A region of space a geometry entry or rigid body fills.
 template <int D>
 struct Shape {
@@ -211,11 +219,9 @@ Scene<D> build_scene(const Deck& deck) {
   // Refuse a grid this machine cannot hold before allocating any of it (and before the casts
   // below): a mistyped size would otherwise end in std::bad_alloc or in swapping. The exact check,
   // with the number of velocity fields, follows when the fields are known.
-  if (!(nodes * kGridBytesPerNodeField < physical_memory_bytes()))
-    gt.fail("cell_size", fmt::format("{:.3g} nodes of {:.3g} m spacing ({}) need about {:.3g} GB of nodal arrays per "
-                                     "velocity field, more than this machine's {:.3g} GB",
-                                     nodes, h, die_t ? "die plus walls" : "[grid] min to max",
-                                     nodes * kGridBytesPerNodeField / 1e9, physical_memory_bytes() / 1e9));
+  check_fits(gt, "cell_size", nodes * kGridBytesPerNodeField,
+             fmt::format("{:.3g} nodes of {:.3g} m spacing ({}), one velocity field,", nodes, h,
+                         die_t ? "die plus walls" : "[grid] min to max"));
   for (int d = 0; d < D; ++d) sc.grid.n[d] = static_cast<long>(nodes_per_axis[static_cast<std::size_t>(d)]);
 
   // ---- materials (ordered by name: the order is the material index)
@@ -268,11 +274,8 @@ Scene<D> build_scene(const Deck& deck) {
       }
       sc.packing_stats = packing.stats;
       const double specimen_particles = sc.die->width * sc.die->height / std::pow(h / ppc, 2);
-      if (!(specimen_particles * kParticleBytes < physical_memory_bytes()))
-        gt.fail("cell_size", fmt::format("the specimen would have {:.3g} particles ({:.3g} GB) at this cell size and "
-                                         "particles_per_cell, more than this machine's {:.3g} GB",
-                                         specimen_particles, specimen_particles * kParticleBytes / 1e9,
-                                         physical_memory_bytes() / 1e9));
+      check_fits(gt, "cell_size", specimen_particles * kParticleBytes,
+                 fmt::format("the specimen's {:.3g} particles at this cell size and particles_per_cell", specimen_particles));
       auto field_of = [&](const std::string& fname) {
         auto [fit, inserted] = field_index.try_emplace(fname, static_cast<int>(field_index.size()));
         if (inserted) sc.field_names.push_back(fname);
@@ -325,10 +328,8 @@ Scene<D> build_scene(const Deck& deck) {
     double box = 1;  // the geometry's bounding box, clipped to the grid: the most it can seed
     for (int d = 0; d < D; ++d) box *= std::max(0.0, std::min(hi[d], gmax[d]) - std::max(lo[d], gmin[d]));
     const double at_most = box / pvol;
-    if (!(at_most * kParticleBytes < physical_memory_bytes()))
-      root.fail("geometry", fmt::format("the [[geometry]] entries span up to {:.3g} particles ({:.3g} GB), more "
-                                        "than this machine's {:.3g} GB: check their sizes and grid.cell_size",
-                                        at_most, at_most * kParticleBytes / 1e9, physical_memory_bytes() / 1e9));
+    check_fits(root, "geometry", at_most * kParticleBytes,
+               fmt::format("the [[geometry]] entries' up to {:.3g} particles (check their sizes and grid.cell_size)", at_most));
   }
   std::vector<long> seeded(gs.size(), 0);
   if (!gs.empty()) seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
@@ -465,14 +466,10 @@ Scene<D> build_scene(const Deck& deck) {
     sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
   }
 
-  {
-    const double bytes = static_cast<double>(sc.grid.nodes()) *
-                         (kGridBytesPerNodeField * sc.deformable_fields + 8.0 * static_cast<double>(sc.bodies.size()));
-    if (!(bytes < physical_memory_bytes()))
-      gt.fail("cell_size", fmt::format("the grid's {} nodes with {} velocity fields need {:.3g} GB, more than this "
-                                       "machine's {:.3g} GB", sc.grid.nodes(), sc.deformable_fields, bytes / 1e9,
-                                       physical_memory_bytes() / 1e9));
-  }
+  check_fits(gt, "cell_size",
+             static_cast<double>(sc.grid.nodes()) *
+                 (kGridBytesPerNodeField * sc.deformable_fields + 8.0 * static_cast<double>(sc.bodies.size())),
+             fmt::format("the grid's {} nodes with {} velocity fields", sc.grid.nodes(), sc.deformable_fields));
   sc.grid.allocate(sc.deformable_fields, static_cast<int>(sc.bodies.size()));
   return sc;
 }
