@@ -421,6 +421,19 @@ Scene<D> build_scene(const Deck& deck) {
     b.cutoff = r.non_negative("contact_cutoff", dim::none, 0.8);
     b.velocity = read_vec<D>(r, "velocity", dim::velocity, Vec<D>::Zero());
     b.ramp.t_ramp = r.non_negative("ramp_time", dim::time, 0.0);
+    // A unilateral body that starts inside the specimen would expel the particles it covers in
+    // the first step; a stick clamp may overlap what it holds.
+    if (b.contact == RigidContact::unilateral)
+      for (std::size_t p = 0; p < sc.particles.size(); ++p) {
+        const Vec<D>& x = sc.particles.x[p];
+        bool in = true;
+        for (int d = 0; d < D; ++d) in = in && x[d] > s.lo[d] && x[d] < s.hi[d];
+        if (in)
+          r.fail("min", fmt::format("rigid body '{}' covers particle {} (material '{}') at ({}) m: a unilateral body must "
+                                    "start outside the deformable bodies (only contact = \"stick\" may overlap them)",
+                                    b.name, p, sc.material_names[sc.particles.material[p]],
+                                    fmt::join(std::vector<double>(x.data(), x.data() + D), ", ")));
+      }
     add_body(std::move(b), s.lo, s.hi);
   }
 

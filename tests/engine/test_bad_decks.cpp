@@ -65,6 +65,9 @@ TEST(BadDecks, EachClassNamesItsKey) {
       // a rigid body may not take a die body's name (history columns and fields are named by it)
       {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"punch\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 mm\"]\nnormal = [0, -1]\n",
        "rigid[0].name: 'punch' is already the name"},
+      // a unilateral rigid body placed over the specimen would blast it apart in the first step
+      {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"anvil\"\nmin = [\"0 mm\", \"0.1 mm\"]\nmax = [\"0.04 mm\", \"0.11 mm\"]\nnormal = [0, -1]\n",
+       "rigid[0].min: rigid body 'anvil' covers particle"},
   };
   for (const auto& c : cases) {
     const std::string msg = error_of(replace(ok, c.from, c.to));
