@@ -131,8 +131,18 @@ double DeckTable::quantity(const std::string& key, const Dimension& d, std::opti
     fail(key, fmt::format("required key missing (a quantity in {})", d.si_unit()));
   }
   double v;
-  if (auto x = n->value<double>()) v = *x;  // plain numbers are SI
-  else if (auto s = n->value<std::string>()) v = to_si(*s, d, where(key));
+  if (auto x = n->value<double>()) {
+    v = *x;  // plain numbers are SI
+    // No solid or liquid is lighter than 100 kg/m^3: a plain 1.9 is almost surely g/cm3 without
+    // its unit. Stated, not refused (non-dimensional test decks use density 1 on purpose).
+    if (d == dim::density && v > 0.0 && v < 100.0)
+      fmt::print(stderr,
+                 "pbxmpm: warning: {}: the plain number {:g} is read as {:g} kg/m^3 (plain numbers are SI); "
+                 "write \"{:g} g/cm3\" if g/cm3 was meant\n",
+                 where(key), v, v, v);
+  } else if (auto s = n->value<std::string>()) {
+    v = to_si(*s, d, where(key));
+  }
   else fail(key, fmt::format("expected a number (SI, {}) or a string with a unit", d.si_unit()));
   // toml accepts nan and inf; no deck quantity may be either (inf would pass every "> 0" check)
   if (!std::isfinite(v)) fail(key, fmt::format("must be a finite number (got {})", v));
