@@ -21,6 +21,7 @@ const char* to_string(ContactLaw law) {
     case ContactLaw::frictionless: return "frictionless";
     case ContactLaw::coulomb: return "coulomb";
     case ContactLaw::adhesion: return "adhesion";
+    case ContactLaw::binder_layer: return "binder_layer";
   }
   return "?";
 }
@@ -36,7 +37,12 @@ PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<s
   else if (name == "frictionless") p.law = ContactLaw::frictionless;
   else if (name == "coulomb") p.law = ContactLaw::coulomb;
   else if (name == "adhesion") p.law = ContactLaw::adhesion;
-  else t.fail(law_key, fmt::format("unknown contact law '{}' (weld, frictionless, coulomb, adhesion)", name));
+  else if (name == "binder_layer" && law_key == "law") {
+    p.law = ContactLaw::binder_layer;  // its keys: read_layer_law
+    return p;
+  } else if (name == "binder_layer")
+    t.fail(law_key, "binder_layer is a law for one pair of materials: give it in a [[contact.pair]] entry");
+  else t.fail(law_key, fmt::format("unknown contact law '{}' (weld, frictionless, coulomb, adhesion, binder_layer)", name));
 
   if (p.law == ContactLaw::coulomb || p.law == ContactLaw::adhesion) {
     p.friction = t.number("friction");
@@ -95,7 +101,12 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
       idx[k] = it->second;
     }
     const auto key = std::minmax(idx[0], idx[1]);
-    const PairLaw law = read_law(p, "law", std::nullopt);
+    PairLaw law = read_law(p, "law", std::nullopt);
+    if (law.law == ContactLaw::binder_layer) {
+      cm.layers.push_back(read_layer_law(p));
+      law.layer = static_cast<int>(cm.layers.size()) - 1;
+      law.friction = cm.layers.back().friction;
+    }
     if (!overrides.emplace(key, law).second)
       p.fail("materials", fmt::format("the pair ('{}', '{}') is listed twice", names[0], names[1]));
   }

@@ -6,11 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "contact/binder_layer.hpp"
 #include "io/deck.hpp"
 
 namespace pbx {
 
-enum class ContactLaw { weld, frictionless, coulomb, adhesion };
+// binder_layer: a spring interface standing for an unresolved binder layer (contact/binder_layer.hpp)
+// where both sides are bonded; Coulomb with `friction` elsewhere.
+enum class ContactLaw { weld, frictionless, coulomb, adhesion, binder_layer };
 
 // Outward normal of field a at a node (see docs/theory/contact.md):
 //   dominant: from the volume gradient of whichever side (a or the rest) has the larger |grad V|,
@@ -23,6 +26,7 @@ struct PairLaw {
   ContactLaw law = ContactLaw::weld;
   double friction = 0;  // Coulomb coefficient mu
   double adhesion = 0;  // shear adhesion S_a, Pa
+  int layer = -1;       // binder_layer: index into ContactMatrix::layers
 };
 
 struct ContactMatrix {
@@ -31,12 +35,18 @@ struct ContactMatrix {
   std::vector<int> field_material; // material index of each field's particles (-1: mixed)
   ContactNormal normal = ContactNormal::dominant;
   double position_cutoff = 0;      // displacement check, cells; 0 = off
+  std::vector<LayerLaw> layers;    // the binder_layer laws of the [[contact.pair]] entries
 
   const PairLaw& operator()(int a, int b) const {
     return pair[static_cast<std::size_t>(a) * static_cast<std::size_t>(fields) + static_cast<std::size_t>(b)];
   }
   // True when every pair welds: the solver then takes the single-velocity fast path.
   bool all_weld() const;
+  bool has_layers() const { return !layers.empty(); }
+  // Sets every binder_layer law's stiffnesses to their values at time t.
+  void layers_at(double t) {
+    for (auto& l : layers) l.at_time(t);
+  }
 };
 
 // Reads the optional [contact] table. field_material[f] is the material index of field f's

@@ -6,6 +6,8 @@
 //   contact            when d_n = dp . n_a < 0 (approaching), and, with the displacement check on,
 //                      when the mass centres of a and r are closer than the cutoff along n_a
 //   impulse on a       d_n n_a + dp_t min(1, (S_a A_c dt - mu d_n) / |dp_t|)   (weld: dp)
+//   binder_layer       where both sides are bonded: the implicit impulse of a spring on the
+//                      displacement jump, J = dt k s / (1 + k dt^2 / m_red) per direction
 // and the node's impulses are made to sum to zero exactly (mass-weighted correction, which only
 // acts at nodes with three or more fields or with unpaired normals).
 #include "contact/contact_matrix.hpp"
@@ -22,8 +24,11 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // two fields; dt is the step (adhesion cap). Returns the frictional work of the pass, J
 // (per metre of depth in 2-D), summed in a thread-count independent order. With a tally, the
 // impulses of the pass are added to it per pair of fields (history bookkeeping).
+// binder_layer pairs (contact/binder_layer.hpp) act only in the pass after the grid update
+// (after_update), where the impulse of their springs is applied; with layer_energy, the energy the
+// springs hold at the end of the step is written there, J (per metre of depth in 2-D).
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
-                     ContactTally<D>* tally = nullptr);
+                     ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr);
 
 }  // namespace pbx

@@ -24,6 +24,12 @@ struct Particles {
   std::vector<std::int32_t> material;  // index into the run's material list
   std::vector<std::int32_t> field;     // contact (velocity) field index
   std::vector<std::uint32_t> slot;     // history slot inside the particle's material
+  // Only with a binder_layer contact law (contact/binder_layer.hpp), else empty: the reference
+  // position (the layer's jump is a displacement difference) and whether the particle lies at a
+  // bonded grain-grain contact (set once by build_scene).
+  std::vector<Vec<D>> X0;              // m
+  std::vector<std::uint8_t> bonded;    // 0 or 1
+  std::vector<Vec<D>> N0;              // bonded: unit normal of its contact, towards the other grain
 
   std::size_t size() const { return x.size(); }
 
@@ -55,6 +61,9 @@ struct Particles {
     };
     permute(x); permute(v); permute(mass); permute(volume0); permute(volume);
     permute(F); permute(L); permute(stress); permute(material); permute(field); permute(slot);
+    if (!X0.empty()) permute(X0);
+    if (!bonded.empty()) permute(bonded);
+    if (!N0.empty()) permute(N0);
   }
 
   std::size_t add(const Vec<D>& pos, double vol, double m, int mat, int fld) {

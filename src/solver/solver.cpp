@@ -109,7 +109,7 @@ void Solver<D>::step() {
       update_stress();
       p2g_forces();
       grid_update();
-      contact(true);
+      contact(true, true);
       finalize_grid_velocities();
       g2p();
       break;
@@ -121,7 +121,7 @@ void Solver<D>::step() {
       keep_interpolated_momentum();
       contact(true);
       grid_update();
-      contact(true);
+      contact(true, true);
       finalize_grid_velocities();
       reset_grid();     // the nodal sums of the next step start here (G2P reads only vel, dvel)
       g2p_update_p2g(); // G2P -> stress update -> next step's P2G, chunk by chunk
@@ -133,7 +133,7 @@ void Solver<D>::step() {
       keep_interpolated_momentum();
       contact(true);
       grid_update();
-      contact(true);
+      contact(true, true);
       finalize_grid_velocities();
       g2p();  // also maps the updated particle momenta back to the grid
       contact(false);
@@ -161,6 +161,15 @@ void Solver<D>::reset_grid() {
     g.force[k].setZero();
     if (gradients) g.vgrad[k].setZero();
   }
+  if (g.layers()) {
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      g.mref[k].setZero();
+      g.mdef[k].setZero();
+      g.mbond[k] = 0.0;
+      g.mnorm[k].setZero();
+    }
+  }
 }
 
 // The momentum as interpolated, before contact and forces change it: the base of the FLIP
@@ -180,7 +189,7 @@ Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
   // (contact.position_check), which without them would compare zero offsets and never fire.
   const bool offsets = !sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0;
   return Scatter<D>{sc_.grid, sc_.particles, sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0,
-                    mass_momentum, forces, offsets, track_gradients_};
+                    mass_momentum, forces, offsets, track_gradients_, sc_.grid.layers()};
 }
 
 // Even strips in parallel, then odd strips, then the strays serially (solver/bins.hpp).
@@ -244,7 +253,7 @@ void Solver<D>::rigid_p2g() {
 }
 
 template <int D>
-void Solver<D>::contact(bool record) {
+void Solver<D>::contact(bool record, bool after_update) {
   if (!sc_.bodies.empty()) {
     RigidContactResult<D> r;
     rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + (record ? dt_ : 0.0), mass_eps_, r);
@@ -259,9 +268,12 @@ void Solver<D>::contact(bool record) {
   if (sc_.contact.fields < 2 || sc_.contact.all_weld()) {
     weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
   } else {
+    if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
+    double energy = 0;
     const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
-                                             record ? &contact_tally_ : nullptr);
+                                             record ? &contact_tally_ : nullptr, after_update, &energy);
     if (record) dissipated_ += friction;
+    if (after_update) layer_energy_ = energy;
   }
 }
 

@@ -31,7 +31,8 @@ class Solver {
 
   // Energies of the deformable particles, J (per metre of depth in 2D).
   double kinetic_energy() const;           // with the scaled (inertial) masses
-  double internal_energy() const { return internal_; }      // integrated stress work
+  // integrated stress work, plus the energy held by binder-layer springs (field contact)
+  double internal_energy() const { return internal_ + layer_energy_; }
   double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
   double max_wave_speed() const { return cmax_; }            // unscaled, m/s
   // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
@@ -51,7 +52,9 @@ class Solver {
   void p2g(bool with_forces);
   void p2g_forces();
   void rigid_p2g();
-  void contact(bool record);
+  // record: book impulses and friction work; after_update: the pass after the grid update
+  // (binder-layer springs act only there).
+  void contact(bool record, bool after_update = false);
   void grid_update();
   void keep_interpolated_momentum();
   void finalize_grid_velocities();
@@ -85,6 +88,7 @@ class Solver {
   long steps_ = 0;
   double cmax_ = 0, vmax_ = 0;
   double internal_ = 0, dissipated_ = 0;
+  double layer_energy_ = 0;  // binder-layer springs at the end of the last step (a state, not a sum)
   double mass_eps_ = 0;
   double half_width_ = 0;  // particle half-width in cells (uGIMP)
   bool track_gradients_ = false;  // volume gradients for contact normals (several fields)

@@ -4,6 +4,7 @@
 // (PIC velocity, FLIP increment, velocity gradient). The transfer stages (Solver::p2g, g2p) and the
 // fused particle pass (Solver::g2p_update_p2g) call the same kernels, so a node receives the same
 // bits whichever path made it.
+#include <array>
 #include <cstdint>
 
 #include "grid/grid.hpp"
@@ -24,6 +25,22 @@ inline Mat<D> in_plane(const Sym3& s) {
   }
 }
 
+// One node row of the binder-layer sums (2-D), out of line so the common path stays small.
+template <int D>
+inline void scatter_layer_row(Grid<D>& g, const Particles<D>& P, std::uint32_t p, long off, long r,
+                              const std::array<double, 3>& wx, double mj) {
+  const Vec<D> xj = mj * (P.X0[p] - g.origin);
+  const Mat<D> fj = mj * P.F[p];
+  const double bj = mj * P.bonded[p];
+  const Vec<D> nj = mj * (P.F[p].inverse().transpose() * P.N0[p]);  // normals map with F^-T
+  for (int i = 0; i < 3; ++i) {
+    g.mref[off + r + i] += wx[i] * xj;
+    g.mdef[off + r + i] += wx[i] * fj;
+    g.mbond[off + r + i] += wx[i] * bj;
+    g.mnorm[off + r + i] += wx[i] * nj;
+  }
+}
+
 template <int D>
 struct Scatter {
   Grid<D>& g;
@@ -35,6 +52,7 @@ struct Scatter {
   bool forces;          // scatter internal and body forces
   bool offsets;         // mass-centre offsets (rigid-body contact gate, field position check)
   bool gradients;       // volume gradients (contact normals between several fields)
+  bool layers;          // reference positions, F and bond flags (binder_layer contact law)
 
   void operator()(std::uint32_t p, const Stencil<D>& st) const {
     const long off = P.field[p] * g.nodes();  // a product of two longs in 2-D
@@ -73,6 +91,7 @@ struct Scatter {
           }
           if (gradients)
             for (int i = 0; i < 3; ++i) gg[r + i] += vol * Vec<D>(gx[i] * wy, wx[i] * gy);
+          if (layers) scatter_layer_row<D>(g, P, p, off, r, wx, mj);
         }
         if (forces) {
           const Vec<D> fa = wy * sv.col(0), fb = gy * sv.col(1);
@@ -92,6 +111,14 @@ struct Scatter {
         });
         if (offsets) for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { go[i] += (S * m) * xs; });
         if (gradients) for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { gg[i] += vol * G; });
+        if (layers)
+          for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+            const double sm = S * m;
+            g.mref[off + i] += sm * (P.X0[p] - g.origin);
+            g.mdef[off + i] += sm * P.F[p];
+            g.mbond[off + i] += sm * P.bonded[p];
+            g.mnorm[off + i] += sm * (P.F[p].inverse().transpose() * P.N0[p]);
+          });
       }
       if (forces) {
         for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>& G) {

@@ -1,0 +1,102 @@
+#include "contact/binder_layer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+#include "io/deck.hpp"
+#include "materials/point_driver.hpp"
+
+namespace pbx {
+
+namespace {
+constexpr Dimension kStiffnessPerArea{{-2, 1, -2, 0, 0}};  // Pa/m
+// Small enough that the Tait EOS stays linear (K changes by ~1e-4 relative), large enough for
+// round-off: the secant is sigma / strain.
+constexpr double kProbeStrain = 1e-4;
+constexpr int kProbeSteps = 400;
+}  // namespace
+
+void LayerLaw::at_time(double t) {
+  if (time.size() == 1 || t <= time.front()) {
+    kn = normal.front(), kt = shear.front();
+    return;
+  }
+  if (t >= time.back()) {
+    kn = normal.back(), kt = shear.back();
+    return;
+  }
+  const auto hi = static_cast<std::size_t>(std::upper_bound(time.begin(), time.end(), t) - time.begin());
+  const std::size_t lo = hi - 1;
+  const double s = (t - time[lo]) / (time[hi] - time[lo]);
+  kn = normal[lo] + s * (normal[hi] - normal[lo]);
+  kt = shear[lo] + s * (shear[hi] - shear[lo]);
+}
+
+LayerLaw read_layer_law(const DeckTable& t) {
+  LayerLaw law;
+  law.friction = t.number("friction");
+  if (!(law.friction >= 0.0)) t.fail("friction", fmt::format("friction coefficient must be >= 0, got {}", law.friction));
+  law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
+  const bool direct = t.has("normal_stiffness") || t.has("shear_stiffness");
+  if (direct) {
+    for (const char* k : {"binder", "thickness", "load_time", "closure"})
+      if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
+    law.time = {0.0};
+    law.normal = {t.positive("normal_stiffness", kStiffnessPerArea)};
+    law.shear = {t.non_negative("shear_stiffness", kStiffnessPerArea)};
+    return law;
+  }
+  law.binder = t.string("binder");
+  law.thickness = t.positive("thickness", dim::length);
+  law.closure = t.number("closure", 0.5);
+  if (!(law.closure > 0.0 && law.closure <= 1.0)) t.fail("closure", fmt::format("must lie in (0, 1], got {}", law.closure));
+  if (t.has("load_time")) {
+    std::string word;
+    try {
+      word = t.string("load_time");
+    } catch (const InputError&) {  // a plain number: seconds
+    }
+    if (word != "elapsed") law.load_time = t.positive("load_time", dim::time);
+  }
+  return law;
+}
+
+void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, const DeckTable& where) {
+  if (law.binder.empty()) return;
+  const bool elapsed = law.load_time == 0.0;
+  // past the run's end time, so the table covers every step (the last one may overshoot)
+  const double horizon = elapsed ? 1.2 * end_time : law.load_time;
+  if (!(horizon > 0.0)) where.fail("load_time", "the run has no duration to take the binder's moduli over");
+  PointLoad load;
+  load.strain = -kProbeStrain;  // compression, where the layer works
+  load.rate = kProbeStrain / horizon;
+  load.steps = kProbeSteps;
+  load.path = PointPath::uniaxial_strain;
+  const std::vector<PointSample> axial = drive_point(binder, load);
+  load.strain = kProbeStrain;
+  load.path = PointPath::simple_shear;
+  const std::vector<PointSample> shear = drive_point(binder, load);
+  law.time.clear(), law.normal.clear(), law.shear.clear();
+  for (std::size_t k = 1; k < axial.size(); ++k) {
+    const double M = axial[k].stress.xx / axial[k].strain, G = shear[k].stress.xy / shear[k].strain;
+    if (!(M > 0.0 && G >= 0.0 && std::isfinite(M) && std::isfinite(G)))
+      where.fail("binder", fmt::format("material '{}' gives no usable layer moduli at t = {:.4g} s (M = {:.4g} Pa, "
+                                       "G = {:.4g} Pa)", law.binder, axial[k].time, M, G));
+    // the first sample stands for t -> 0 (the instantaneous moduli, to within one probe step)
+    law.time.push_back(k == 1 ? 0.0 : axial[k].time);
+    law.normal.push_back(M / law.thickness);
+    law.shear.push_back(G / law.thickness);
+  }
+  if (!elapsed) {  // one value: the secant over the fixed load time
+    law.time = {0.0};
+    law.normal = {law.normal.back()};
+    law.shear = {law.shear.back()};
+  }
+  law.at_time(0.0);
+}
+
+}  // namespace pbx

@@ -1,0 +1,47 @@
+#pragma once
+// The binder_layer contact law: a binder layer thinner than a cell between two grain fields,
+// represented as a linear spring interface (an imperfect interface, Nairn 2007/2013) whose
+// stiffnesses per unit area are those of the layer itself,
+//   D_n = M_b / t,   D_t = G_b / t      (Pa/m; t = layer thickness),
+// with M_b, G_b the binder's secant constrained and shear moduli at the run temperature: the
+// binder material of the deck is driven through uniaxial strain and simple shear at a constant
+// rate, and sigma(t)/eps(t) is exactly the secant (1/t) int_0^t E(s) ds of its relaxation
+// modulus (quasi-elastic, exact for a jump that grows linearly in time). docs/theory/contact.md
+// states the node law (field_contact.cpp) and its verification.
+#include <string>
+#include <vector>
+
+#include "materials/material.hpp"
+
+namespace pbx {
+
+class DeckTable;
+
+struct LayerLaw {
+  // Stiffness per unit area against time: D_n(t_k), D_t(t_k), Pa/m; one entry = constant.
+  std::vector<double> time, normal, shear;
+  double friction = 0;       // Coulomb coefficient where the layer does not act (fallback law)
+  double thickness = 0;      // t, m (0: stiffnesses given directly)
+  double closure = 0;        // the layer is squeezed out when the normal closure exceeds closure * t
+  double bond_gap = 0;       // grains whose particles come this close (beyond touching) are bonded, m
+  std::string binder;        // material whose moduli make D_n, D_t ("" when given directly)
+  double load_time = 0;      // s: secant over this fixed time; 0 = over the elapsed run time
+  // Current values (at_time).
+  double kn = 0, kt = 0;
+
+  // Sets kn, kt to the stiffnesses at time t (linear interpolation in the table; beyond its
+  // last time the last value, which build_scene puts past the run's end time).
+  void at_time(double t);
+};
+
+// Reads the law's own keys from a [[contact.pair]] table with law = "binder_layer": friction
+// (required), then either normal_stiffness and shear_stiffness (Pa/m), or binder, thickness,
+// load_time ("elapsed" by default) and closure (0.5); bond_gap (0). The binder moduli are filled
+// in later by layer_moduli (they need the material and the run's temperature and duration).
+LayerLaw read_layer_law(const DeckTable& t);
+
+// Fills law.time/normal/shear from the binder material at the run's temperature: secant moduli
+// over [0, t] for t up to end_time (load_time = "elapsed"), or at the fixed load time.
+void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, const DeckTable& where);
+
+}  // namespace pbx

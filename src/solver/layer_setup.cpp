@@ -1,0 +1,140 @@
+#include "solver/layer_setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace pbx {
+
+namespace {
+
+// Particles bucketed by grid cell (counting sort): neighbour searches within a few cells.
+template <int D>
+struct CellBuckets {
+  std::vector<long> start;          // per cell, into order
+  std::vector<std::uint32_t> order; // particle indices, cell by cell
+  std::array<long, D> n{};
+  double inv_h = 0;
+  Vec<D> origin;
+
+  CellBuckets(const Grid<D>& g, const std::vector<Vec<D>>& x) : inv_h(1.0 / g.h), origin(g.origin) {
+    long cells = 1;
+    for (int d = 0; d < D; ++d) n[d] = g.n[d], cells *= n[d];
+    start.assign(static_cast<std::size_t>(cells) + 1, 0);
+    std::vector<long> cell(x.size());
+    for (std::size_t p = 0; p < x.size(); ++p) {
+      cell[p] = index(coords(x[p]));
+      ++start[static_cast<std::size_t>(cell[p]) + 1];
+    }
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    order.resize(x.size());
+    std::vector<long> fill(start.begin(), start.end() - 1);
+    for (std::size_t p = 0; p < x.size(); ++p) order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell[p])]++)] = static_cast<std::uint32_t>(p);
+  }
+  std::array<long, D> coords(const Vec<D>& x) const {
+    std::array<long, D> c;
+    for (int d = 0; d < D; ++d) c[d] = std::clamp(static_cast<long>(std::floor((x[d] - origin[d]) * inv_h)), 0L, n[d] - 1);
+    return c;
+  }
+  long index(const std::array<long, D>& c) const {
+    long k = 0;
+    for (int d = D - 1; d >= 0; --d) k = k * n[d] + c[d];
+    return k;
+  }
+  // Calls f(q) for every particle q in the cells within `reach` cells of x's cell; stops when f
+  // returns true, and returns whether one did.
+  template <class F>
+  bool any_near(const Vec<D>& x, long reach, F&& f) const {
+    const auto c = coords(x);
+    std::array<long, D> lo, hi, k;
+    for (int d = 0; d < D; ++d) lo[d] = std::max(0L, c[d] - reach), hi[d] = std::min(n[d] - 1, c[d] + reach), k[d] = lo[d];
+    while (true) {
+      const long cell = index(k);
+      for (long j = start[static_cast<std::size_t>(cell)]; j < start[static_cast<std::size_t>(cell) + 1]; ++j)
+        if (f(order[static_cast<std::size_t>(j)])) return true;
+      int d = 0;
+      while (d < D && ++k[d] > hi[d]) k[d] = lo[d], ++d;
+      if (d == D) return false;
+    }
+  }
+};
+
+}  // namespace
+
+template <int D>
+void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
+  ContactMatrix& cm = sc.contact;
+  if (!cm.has_layers()) return;
+
+  // stiffnesses from the binder materials; the k-th binder_layer pair entry made layers[k]
+  {
+    const DeckTable contact = root.table("contact");
+    std::size_t k = 0;
+    for (const DeckTable& p : contact.tables("pair")) {
+      if (p.string("law") != "binder_layer") continue;
+      LayerLaw& law = cm.layers[k++];
+      if (law.binder.empty()) continue;
+      const auto it = std::find(sc.material_names.begin(), sc.material_names.end(), law.binder);
+      if (it == sc.material_names.end()) p.fail("binder", fmt::format("no material named '{}' in [materials]", law.binder));
+      MaterialContext ctx;
+      ctx.temperature = sc.control.temperature;
+      ctx.name = law.binder;
+      const auto binder = make_material<3>(root.table("materials").table(law.binder), ctx);
+      layer_moduli(law, *binder, sc.control.end_time, p);
+    }
+  }
+
+  // reference positions and bond flags
+  auto& P = sc.particles;
+  const std::size_t np = P.size();
+  P.X0 = P.x;
+  P.bonded.assign(np, 0);
+  const double h = sc.grid.h, spacing = h / sc.settings.ppc;
+  double gap = 0;
+  for (const auto& l : cm.layers) gap = std::max(gap, l.bond_gap);
+  const double touch_r = 1.01 * spacing + gap, bond_r = 2.0 * h;
+  const auto layer_pair = [&](int a, int b) {
+    return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
+  };
+  const CellBuckets<D> cells(sc.grid, P.x);
+  // touching particles and their contact normal (the mean direction to the touching particles
+  // of the other side)
+  std::vector<std::uint8_t> touching(np, 0);
+  std::vector<Vec<D>> toward(np, Vec<D>::Zero());
+  const long touch_cells = static_cast<long>(std::ceil(touch_r / h)), bond_cells = static_cast<long>(std::ceil(bond_r / h));
+#pragma omp parallel for schedule(static)
+  for (std::size_t p = 0; p < np; ++p) {
+    Vec<D> sum = Vec<D>::Zero();
+    cells.any_near(P.x[p], touch_cells, [&](std::uint32_t q) {
+      const Vec<D> d = P.x[q] - P.x[p];
+      if (layer_pair(P.field[p], P.field[q]) && d.norm() <= touch_r) sum += d / d.norm();
+      return false;
+    });
+    const double len = sum.norm();
+    touching[p] = len > 0.0;
+    if (len > 0.0) toward[p] = sum / len;
+  }
+  // bonded particles: within two cells of a touching particle of their own field; their normal
+  // is the mean of those particles' normals
+  P.N0.assign(np, Vec<D>::Zero());
+#pragma omp parallel for schedule(static)
+  for (std::size_t p = 0; p < np; ++p) {
+    Vec<D> sum = Vec<D>::Zero();
+    cells.any_near(P.x[p], bond_cells, [&](std::uint32_t q) {
+      if (touching[q] && P.field[q] == P.field[p] && (P.x[q] - P.x[p]).norm() <= bond_r) sum += toward[q];
+      return false;
+    });
+    const double len = sum.norm();
+    P.bonded[p] = len > 0.0;
+    if (len > 0.0) P.N0[p] = sum / len;
+  }
+}
+
+template void setup_binder_layers<2>(Scene<2>&, const DeckTable&);
+template void setup_binder_layers<3>(Scene<3>&, const DeckTable&);
+
+}  // namespace pbx
