@@ -40,6 +40,7 @@ std::vector<std::pair<std::string, std::string>> physics_overrides(const StudyRu
 TEST(PaperDecks, QuickStudyRunsAreValidDecks) { build_every_run("quick.toml"); }
 TEST(PaperDecks, SensitivityStudyRunsAreValidDecks) { build_every_run("sensitivity.toml"); }
 TEST(PaperDecks, ContactDetectionStudyRunsAreValidDecks) { build_every_run("contact_detection.toml"); }
+TEST(PaperDecks, QuickLayerStudyRunsAreValidDecks) { build_every_run("quick_layer.toml"); }
 
 TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {
   const StudySpec quick = read_study(kPaper + "quick.toml");
