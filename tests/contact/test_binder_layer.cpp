@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "../engine/block_deck.hpp"
 #include "../engine/scene_fixture.hpp"
 
 using namespace pbx;
@@ -26,27 +27,11 @@ using namespace pbx;
 namespace {
 constexpr double K = 10.59e9, G = 11.5e9, M = K + 4 * G / 3, H = 0.48e-3;
 
+// The die column of the engine tests (tests/engine/block_deck.hpp) cut into two slabs on two
+// fields at height lower_height_um, joined by the law.
 std::string column_deck(double lower_height_um, double dn, double dt) {
-  return fmt::format(R"(
-[run]
-end_strain = 0.03
-history_points = 151
-snapshots = 0
-[grid]
-cell_size = "10 um"
-[solver]
-mass_scaling = 100
-[die]
-width = "0.04 mm"
-height = "0.48 mm"
-punch_velocity = "0.3 m/s"
-ramp_strain = 0.004
-[materials.block]
-model = "linear_elastic"
-density = "1.934 g/cm3"
-bulk_modulus = "10.59 GPa"
-shear_modulus = "11.5 GPa"
-[[geometry]]
+  const std::string block = test::block_deck(100, 0.03);
+  return block.substr(0, block.find("[[geometry]]")) + fmt::format(R"([[geometry]]
 min = ["0 mm", "0 mm"]
 max = ["0.04 mm", "{0} um"]
 material = "block"
@@ -65,7 +50,7 @@ friction = 0.0
 normal_stiffness = {1}
 shear_stiffness = {2}
 )",
-                     lower_height_um, dn, dt);
+                                                                     lower_height_um, dn, dt);
 }
 
 struct Row {
