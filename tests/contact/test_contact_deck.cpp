@@ -114,4 +114,16 @@ TEST(ContactDeck, BadDecksNameTheKey) {
   EXPECT_THAT(error_of("[contact]\nnormals = \"up\"\n"), HasSubstr("contact.normals"));
   EXPECT_THAT(error_of("[contact]\nposition_check = -1\n"), HasSubstr("contact.position_check"));
   EXPECT_THAT(error_of("[contact]\nfrobnicate = 1\n"), HasSubstr("frobnicate"));
+  // binder_layer (contact/binder_layer.hpp)
+  const std::string layer = "[contact]\n[[contact.pair]]\nmaterials = [\"tatb\", \"tatb\"]\nlaw = \"binder_layer\"\n";
+  EXPECT_THAT(error_of("[contact]\ndefault = \"binder_layer\"\n"),
+              AllOf(HasSubstr("contact.default"), HasSubstr("[[contact.pair]]")));
+  EXPECT_THAT(error_of(layer + "binder = \"f2314\"\nthickness = \"2 um\"\n"), HasSubstr("friction"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nnormal_stiffness = 1e15\nbinder = \"f2314\"\n"),
+              AllOf(HasSubstr("binder"), HasSubstr("not both")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"glue\"\nthickness = \"2 um\"\n"),
+              AllOf(HasSubstr("contact.pair"), HasSubstr("binder"), HasSubstr("no material named 'glue'")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nclosure = 1.5\n"),
+              HasSubstr("closure"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"-2 um\"\n"), HasSubstr("thickness"));
 }
