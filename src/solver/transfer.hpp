@@ -28,11 +28,11 @@ inline Mat<D> in_plane(const Sym3& s) {
 // One node row of the binder-layer sums (2-D), out of line so the common path stays small.
 template <int D>
 inline void scatter_layer_row(Grid<D>& g, const Particles<D>& P, std::uint32_t p, long off, long r,
-                              const std::array<double, 3>& wx, double mj) {
+                              const std::array<double, 3>& wx, double mj, const Vec<D>& normal) {
   const Vec<D> xj = mj * (P.X0[p] - g.origin);
   const Mat<D> fj = mj * P.F[p];
   const double bj = mj * P.bonded[p];
-  const Vec<D> nj = mj * (P.F[p].inverse().transpose() * P.N0[p]);  // normals map with F^-T
+  const Vec<D> nj = mj * normal;
   for (int i = 0; i < 3; ++i) {
     g.mref[off + r + i] += wx[i] * xj;
     g.mdef[off + r + i] += wx[i] * fj;
@@ -75,6 +75,8 @@ struct Scatter {
       const auto& wx = st.w[0];
       const auto& gx = st.g[0];
       const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
+      // the particle's contact normal, mapped with F^-T (binder_layer runs only): once per particle
+      const Vec<D> normal = layers ? Vec<D>(P.F[p].inverse().transpose() * P.N0[p]) : Vec<D>::Zero();
       for (int j = 0; j < 3; ++j) {
         const long r = b0 + j * g.stride[1];
         const double wy = st.w[1][j], gy = st.g[1][j];
@@ -91,7 +93,7 @@ struct Scatter {
           }
           if (gradients)
             for (int i = 0; i < 3; ++i) gg[r + i] += vol * Vec<D>(gx[i] * wy, wx[i] * gy);
-          if (layers) scatter_layer_row<D>(g, P, p, off, r, wx, mj);
+          if (layers) scatter_layer_row<D>(g, P, p, off, r, wx, mj, normal);
         }
         if (forces) {
           const Vec<D> fa = wy * sv.col(0), fb = gy * sv.col(1);
