@@ -44,7 +44,7 @@ void register_run(CLI::App& app) {
                   "continue the run saved in this checkpoint (its deck; output in the checkpoint's folder "
                   "unless --out is given)")
       ->check(CLI::ExistingFile);
-  run->add_option("--threads,-t", args->threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 1024));
+  run->add_option("--threads,-t", args->threads, "OpenMP threads (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores)")->check(CLI::Range(1, 1024));
   run->add_flag("--quiet,-q", args->quiet, "no progress display");
   run->callback([args, run] {
     Deck deck = Deck::from_string("", "");

@@ -24,7 +24,7 @@ void register_study(CLI::App& app) {
   auto* st = app.add_subcommand("study", "Run a study deck (runs x seeds, MPI-aware, resumable), analyse, fit and report");
   st->add_option("deck", a->deck, "study deck (TOML with a [study] table)")->required()->check(CLI::ExistingFile);
   st->add_option("--out,-o", a->out, "study directory (default: out/<study name>)");
-  st->add_option("--threads,-t", a->threads, "OpenMP threads per run")->check(CLI::Range(1, 1024));
+  st->add_option("--threads,-t", a->threads, "OpenMP threads per run (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores of this rank)")->check(CLI::Range(1, 1024));
   st->add_option("--only", a->only,
                  "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run has finished")
       ->delimiter(',');

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -35,7 +36,9 @@ std::string hms(double s) {
 
 template <int D>
 Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), opt_(std::move(opt)), solver_(scene) {
-  if (opt_.threads > 0) omp_set_num_threads(opt_.threads);
+  threads_ = choose_threads(opt_.threads, sc_.particles.size());
+  omp_set_num_threads(threads_.threads);
+  if (!threads_.note.empty()) std::fprintf(stderr, "pbxmpm: note: %s\n", threads_.note.c_str());
   tty_ = isatty(STDERR_FILENO);
   const char* axes = "xyz";
   columns_ = {"step", "t_s", "dt_s", "strain", "punch_velocity_m_s", "punch_force_N_per_m", "punch_stress_Pa",
@@ -264,6 +267,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "pid": {},
   "dimension": {},
   "threads": {},
+  "threads_chosen_by": "{}",
   "particles": {},
   "rigid_particles": {},
   "grid_nodes": {},
@@ -286,7 +290,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "deck": {}
 }}
 )J",
-      status, esc, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), host_name(), static_cast<long>(::getpid()), D, omp_get_max_threads(), P.size(),
+      status, esc, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), host_name(), static_cast<long>(::getpid()), D, omp_get_max_threads(), threads_.chosen_by, P.size(),
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
       sc_.grid.fields, solver_.step_count(), solver_.time(), wall, restarts_,
       wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),

@@ -13,6 +13,7 @@
 #include "io/csv_writer.hpp"
 #include "io/snapshot.hpp"
 #include "solver/solver.hpp"
+#include "solver/thread_count.hpp"
 
 namespace pbx {
 
@@ -36,7 +37,7 @@ struct Measurement {
 
 struct RunOptions {
   std::string out_dir;          // empty: write nothing (tests)
-  int threads = 0;              // 0: OpenMP default
+  int threads = 0;              // 0: chosen from the scene size (solver/thread_count.hpp)
   bool progress = true;
   std::string deck_json;        // the validated deck (for run.json)
   std::string study_json;       // {"group": ..., ...} when the run belongs to a study
@@ -98,6 +99,7 @@ class Runner {
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;
   bool tty_ = false;
+  ThreadChoice threads_;
 };
 
 }  // namespace pbx

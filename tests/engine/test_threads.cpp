@@ -11,9 +11,10 @@ using namespace pbx;
 
 namespace {
 std::vector<std::vector<double>> history(int threads) {
-  omp_set_num_threads(threads);
   Scene<2> sc = test::scene_from(test::block_deck(100, 0.01));
-  Runner<2> r(sc, test::quiet());
+  RunOptions o = test::quiet();
+  o.threads = threads;  // explicit: the automatic choice would give this small block one thread
+  Runner<2> r(sc, o);
   std::vector<std::vector<double>> rows;
   r.run([&](const Measurement& m) { rows.push_back(Runner<2>::row_values(m, static_cast<int>(sc.bodies.size()))); });
   omp_set_num_threads(1);

@@ -1,0 +1,51 @@
+#include "solver/thread_count.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "core/parse_number.hpp"
+
+namespace pbx {
+
+ThreadChoice choose_threads(int requested, std::size_t particles, bool omp_env, int omp_default, int procs,
+                            int local_ranks) {
+  const std::size_t cores = static_cast<std::size_t>(std::max(1, std::max(1, procs) / std::max(1, local_ranks)));
+  const int automatic =
+      static_cast<int>(std::min(std::max<std::size_t>(1, particles / kParticlesPerThread), cores));
+  ThreadChoice c;
+  if (requested > 0) {
+    c.threads = requested;
+    c.chosen_by = "--threads";
+  } else if (omp_env) {
+    c.threads = std::max(1, omp_default);
+    c.chosen_by = "OMP_NUM_THREADS";
+  } else {
+    c.threads = automatic;
+    c.chosen_by = "auto";
+    return c;
+  }
+  if (c.threads > automatic && particles < kParticlesPerThread * static_cast<std::size_t>(c.threads))
+    c.note = fmt::format(
+        "{} particles on {} threads (set by {}): below {} particles per thread a thread gains little, and "
+        "while other processes hold the cores every step waits for the scheduler (runs many times "
+        "slower); without --threads and OMP_NUM_THREADS pbxmpm would use {}",
+        particles, c.threads, c.chosen_by, kParticlesPerThread, automatic);
+  return c;
+}
+
+ThreadChoice choose_threads(int requested, std::size_t particles) {
+  int local = 1;
+  if (const char* s = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) {
+    const auto v = parse_finite(s);
+    if (v && *v >= 1 && *v <= 1e6 && std::floor(*v) == *v) local = static_cast<int>(*v);
+  }
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  return choose_threads(requested, particles, env != nullptr && *env != '\0', omp_get_max_threads(),
+                        omp_get_num_procs(), local);
+}
+
+}  // namespace pbx
