@@ -36,4 +36,15 @@ void MieGruneisenEos::beyond_fit(double mu) const {
       "(denominator <= 0)", material_, mu));
 }
 
+std::string MieGruneisenEos::failure_reason(double J) const {
+  if (!(J > 0.0)) return {};
+  const double mu = 1.0 / J - 1.0;
+  double A, dA;
+  cold_with_slope(mu, J, A, dA);
+  if (!std::isnan(A)) return {};
+  return fmt::format("compression mu = rho/rho0 - 1 = {:.4g} beyond the limit of the Mie-Grueneisen Hugoniot fit "
+                     "(denominator <= 0; for s2 = s3 = 0 at mu = 1/(s1 - 1) = {:.4g})",
+                     mu, 1.0 / (p_.s1 - 1.0));
+}
+
 }  // namespace pbx

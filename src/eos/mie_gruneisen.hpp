@@ -8,6 +8,8 @@
 // trapezoidal pressure work, which is implicit in E because p is linear in E:
 //   E1 = [E0 - (p0 + A1) dJ/2 + heat] / [1 + B1 dJ/2],  dJ = J1 - J0,  p1 = A1 + B1 E1,
 // with A = cold part, B = g0 + a mu. History per particle: E, J and p at the end of the last step.
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,7 @@ class MieGruneisenEos {
   double cold(double mu) const {
     double A, dA;
     cold_with_slope(mu, A, dA);
+    if (std::isnan(A)) beyond_fit(mu);
     return A;
   }
   double cold_slope(double mu) const {
@@ -53,7 +56,10 @@ class MieGruneisenEos {
     return dA;
   }
   void cold_with_slope(double mu, double& A, double& dA) const { cold_with_slope(mu, 1.0 / (1.0 + mu), A, dA); }
-  // The same with r = 1/(1 + mu) = J supplied, which saves the stress update a division.
+  // The same with r = 1/(1 + mu) = J supplied, which saves the stress update a division. Past the
+  // limit of the fit A and dA are NaN, not an exception: the stress update runs inside OpenMP
+  // regions, which an exception may not leave; the solver's non-finite-stress check stops the run
+  // naming the particle, and failure_reason() says why.
   void cold_with_slope(double mu, double r, double& A, double& dA) const {
     if (mu <= 0.0) {
       A = rho0c2_ * mu, dA = rho0c2_;
@@ -62,13 +68,18 @@ class MieGruneisenEos {
     const double num = rho0c2_ * mu * (1.0 + (1.0 - 0.5 * p_.gamma0) * mu - 0.5 * p_.a * mu * mu);
     const double dnum = rho0c2_ * (1.0 + (2.0 - p_.gamma0) * mu - 1.5 * p_.a * mu * mu);
     const double den = 1.0 - (p_.s1 - 1.0) * mu - p_.s2 * mu * mu * r - p_.s3 * mu * mu * mu * r * r;
-    if (!(den > 0.0)) beyond_fit(mu);
+    if (!(den > 0.0)) {
+      A = dA = std::numeric_limits<double>::quiet_NaN();
+      return;
+    }
     const double dden = -(p_.s1 - 1.0) - p_.s2 * mu * (2.0 + mu) * r * r - p_.s3 * mu * mu * (3.0 + mu) * r * r * r;
     const double id = 1.0 / den, id2 = id * id;
     A = num * id2;
     dA = dnum * id2 - 2.0 * num * dden * id2 * id;
   }
   double gamma(double mu) const { return p_.gamma0 + p_.a * mu; }
+  // Why no finite pressure exists at volume ratio J (empty when one does).
+  std::string failure_reason(double J) const;
   double pressure(double mu, double E) const { return cold(mu) + gamma(mu) * E; }
 
   // Advances the particle's EOS state to volume ratio J (relative to the stress-free state at the

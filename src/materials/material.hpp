@@ -58,6 +58,9 @@ class Material {
   // Equivalent plastic strain stored in one particle's history (0 if the law has none).
   virtual double plastic_strain(const double* /*h*/) const { return 0.0; }
   virtual MaterialStepResult update(const MaterialBatch<D>& batch) const = 0;
+  // Why the law cannot give a finite stress at volume ratio J (empty: no known reason); read
+  // only to word the error once a non-finite stress has stopped the run.
+  virtual std::string failure_reason(double /*J*/) const { return {}; }
 };
 
 // Stress power of one particle over a step by the trapezoidal rule: V (s0 + s1)/2 : D dt.

@@ -45,6 +45,10 @@ class Solid final : public Material<D> {
     eos_.init_history(h + nd_);
   }
   double plastic_strain(const double* h) const override { return dev_.plastic_strain(h); }
+  std::string failure_reason(double J) const override {
+    if constexpr (requires { eos_.failure_reason(J); }) return eos_.failure_reason(J);
+    else return {};
+  }
   const Dev& deviator() const { return dev_; }
   const Eos& eos() const { return eos_; }
   const SolidSetup& setup() const { return setup_; }

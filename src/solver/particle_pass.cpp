@@ -126,14 +126,7 @@ void Solver<D>::particle_pass_impl() {
   if (bad_v != kNone)
     throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
                                        steps_, bad_v, sc_.material_names[P.material[bad_v]]));
-  if (bad_s != kNone) {
-    const std::uint32_t p = bad_s;
-    const double J = P.F[p].determinant();
-    throw InstabilityError(fmt::format(
-        "step {} (t = {:.6g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}", steps_, t_, p,
-        sc_.material_names[P.material[p]], P.x[p][0], P.x[p][1],
-        J > 0 ? "a non-finite stress" : fmt::format("J = {:.4g} <= 0 (inverted)", J)));
-  }
+  if (bad_s != kNone) stop_on_bad_stress(bad_s);
   double cmax = 0;
   for (const auto& r : results) {
     internal_ += r.stress_work;

@@ -500,13 +500,7 @@ void Solver<D>::update_stress() {
     }
     for (long c = 0; c < nchunks; ++c) {
       const std::uint32_t p = bad[static_cast<std::size_t>(c)];
-      if (p != kNone) {
-        const double J = P.F[p].determinant();
-        throw InstabilityError(fmt::format(
-            "step {} (t = {:.6g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}",
-            steps_, t_, p, sc_.material_names[m], P.x[p][0], P.x[p][1],
-            J > 0 ? "a non-finite stress" : fmt::format("J = {:.4g} <= 0 (inverted)", J)));
-      }
+      if (p != kNone) stop_on_bad_stress(p);
       const auto& r = res[static_cast<std::size_t>(c)];
       internal_ += r.stress_work;
       dissipated_ += r.dissipated;
@@ -537,6 +531,19 @@ double Solver<D>::kinetic_energy() const {
     for (long p = b; p < e; ++p) s += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
     return s;
   });
+}
+
+template <int D>
+void Solver<D>::stop_on_bad_stress(std::uint32_t p) const {
+  const auto& P = sc_.particles;
+  const double J = P.F[p].determinant();
+  std::string what = fmt::format("J = {:.4g} <= 0 (inverted)", J);
+  if (J > 0) {
+    const std::string why = sc_.materials[P.material[p]]->failure_reason(J);
+    what = fmt::format("a non-finite stress at J = {:.4g}{}{}", J, why.empty() ? "" : ": ", why);
+  }
+  throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}",
+                                     steps_, t_, p, sc_.material_names[P.material[p]], P.x[p][0], P.x[p][1], what));
 }
 
 template class Solver<2>;

@@ -68,6 +68,9 @@ class Solver {
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
  private:
+  // Stops the run on particle p, whose stress update gave J <= 0 or a non-finite stress: the
+  // message names the step, the particle, its material and place, and the material's reason.
+  [[noreturn]] void stop_on_bad_stress(std::uint32_t p) const;
   // particles per chunk of the fused pass: G2P, stress update and P2G of one chunk run while
   // its particle data are still in the L1/L2 cache
   static constexpr long kPassChunk = 256;
