@@ -68,6 +68,9 @@ class Solver {
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
  private:
+  // The rigid bodies' part of the contact stage (src/contact/rigid_contact.hpp), recorded in the
+  // bodies' impulses and work when `record`.
+  void rigid_stage(bool record);
   // Stops the run on particle p, whose stress update gave J <= 0 or a non-finite stress: the
   // message names the step, the particle, its material and place, and the material's reason.
   [[noreturn]] void stop_on_bad_stress(std::uint32_t p) const;
