@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <string>
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -43,9 +44,18 @@ ThreadChoice choose_threads(int requested, std::size_t particles) {
     const auto v = parse_finite(s);
     if (v && *v >= 1 && *v <= 1e6 && std::floor(*v) == *v) local = static_cast<int>(*v);
   }
+  // OMP_NUM_THREADS is read here, not through omp_get_max_threads(), which an earlier run of this
+  // process (a study, a test binary) has changed with omp_set_num_threads; its first entry counts
+  // ("4,2" nests), and a value OpenMP would not read leaves OpenMP's own count.
   const char* env = std::getenv("OMP_NUM_THREADS");
-  return choose_threads(requested, particles, env != nullptr && *env != '\0', omp_get_max_threads(),
-                        omp_get_num_procs(), local);
+  const bool omp_env = env != nullptr && *env != '\0';
+  int omp_default = omp_get_max_threads();
+  if (omp_env) {
+    const std::string first = std::string(env).substr(0, std::string(env).find(','));
+    const auto v = parse_finite(first);
+    if (v && *v >= 1 && *v <= 1024 && std::floor(*v) == *v) omp_default = static_cast<int>(*v);
+  }
+  return choose_threads(requested, particles, omp_env, omp_default, omp_get_num_procs(), local);
 }
 
 }  // namespace pbx
