@@ -34,6 +34,12 @@ MaterialStepResult MaterialPoint<D>::step(const Mat<D>& L, double dt) {
   b.history = history_.data();
   b.dt = dt;
   const MaterialStepResult r = material_->update(b);
+  const Sym3& st = stress_;
+  if (!std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx)) {
+    const std::string why = material_->failure_reason(V);
+    throw InstabilityError(fmt::format("material point at t = {:.6g} s: non-finite stress at J = {:.4g}{}{}", time_ + dt, V,
+                                       why.empty() ? "" : ": ", why));
+  }
   F_ = Fn;
   time_ += dt;
   dissipated_ += r.dissipated;

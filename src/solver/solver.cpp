@@ -261,19 +261,19 @@ void Solver<D>::contact(bool record, bool after_update) {
   // a TATB particle crushed past its EOS: quick_layer's 0.053 run). Last, the wall's constraint
   // holds at the end of every step; the layered column (tests/contact) is unchanged to all digits.
   // Without springs the order stays rigid -> fields (the runs before 2026-12-02, bit for bit).
-  const bool wall_last = after_update && sc_.contact.has_layers();
-  if (!wall_last) rigid_stage(record);
+  const bool springs = after_update && sc_.contact.has_layers();
+  if (!springs) rigid_stage(record);
   if (sc_.contact.fields < 2 || sc_.contact.all_weld()) {
     weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
   } else {
-    if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
+    if (springs) sc_.contact.layers_at(t_ + dt_);
     double energy = 0;
     const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
                                              record ? &contact_tally_ : nullptr, after_update, &energy);
     if (record) dissipated_ += friction;
     if (after_update) layer_energy_ = energy;
   }
-  if (wall_last) rigid_stage(record);
+  if (springs) rigid_stage(record);  // the walls last
 }
 
 template <int D>

@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include "core/error.hpp"
 #include "eos/mie_gruneisen.hpp"
+#include "material_fixtures.hpp"
+#include "materials/point_driver.hpp"
 
 using namespace pbx;
 
@@ -103,4 +106,20 @@ TEST(MieGruneisen, EnergyIsPressureWorkAndTangentIsIsentropic) {
 TEST(MieGruneisen, DenominatorLimitIsAnInstabilityNotAnInfinity) {
   const auto eos = tatb_eos();
   EXPECT_THROW(eos.cold(1.0 / (2.32 - 1.0) + 0.01), std::runtime_error);
+}
+
+// The material point driver stops past the fit too (the EOS now gives NaN there instead of
+// throwing): one step of plane-strain compression to J = 0.5 (mu = 1 > 1/(2.32 - 1) = 0.758).
+TEST(MieGruneisen, PointDriverPastTheFitStopsWithTheReason) {
+  const auto m = pbx::test::material_from<2>(pbx::test::tatb_body);
+  pbx::MaterialPoint<2> mp(*m);
+  pbx::Mat<2> L = pbx::Mat<2>::Zero();
+  L(0, 0) = std::log(0.5) / 1e-6;
+  try {
+    mp.step(L, 1e-6);
+    FAIL() << "no error; stress xx = " << mp.stress().xx;
+  } catch (const pbx::InstabilityError& e) {
+    EXPECT_NE(std::string(e.what()).find("J = 0.5: compression mu = rho/rho0 - 1 = 1 beyond the limit"), std::string::npos)
+        << e.what();
+  }
 }
