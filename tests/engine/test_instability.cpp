@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "../materials/material_fixtures.hpp"
 #include "scene_fixture.hpp"
 
 namespace fs = std::filesystem;
@@ -104,15 +105,8 @@ TEST(Instability, NonFiniteHistoryValueStopsNamingTheColumn) {
 // stops the run with the particle and the reason. The EOS used to throw from inside the OpenMP
 // stress update, which ended the whole process with std::terminate (a study lost its other runs).
 TEST(Instability, CompressionBeyondTheHugoniotFitStopsNamingParticleAndReason) {
-  Scene<2> sc = test::scene_from(disk_deck("1 us", 10, 0, R"([materials.disk]
-model = "j2_mie_gruneisen"
-density = "1.934 g/cm3"
-shear_modulus = "11.5 GPa"
-yield_stress = "0.80 GPa"
-sound_speed = "2340 m/s"
-hugoniot_s1 = 2.32
-gruneisen_gamma0 = 1.60
-)"));
+  const std::string tatb = "[materials.disk]" + test::tatb_body;  // Table 1 TATB
+  Scene<2> sc = test::scene_from(disk_deck("1 us", 10, 0, tatb.c_str()));
   sc.particles.F[17] = 0.8 * Mat<2>::Identity();  // J = 0.64: mu = 0.5625 below the limit 0.758...
   sc.particles.F[17](1, 1) = 0.5;                 // ...J = 0.4: mu = 1.5 beyond it
   Runner<2> r(sc, test::quiet());
