@@ -100,12 +100,14 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
   if (t.has("linear_window")) {
     auto w = t.quantities("linear_window", dim::none);
     if (w.size() != 2) t.fail("linear_window", "expected [lo, hi] (strain)");
+    if (!(w[1] > w[0] && w[0] >= 0)) t.fail("linear_window", fmt::format("[{}, {}]: needs 0 <= lo < hi", w[0], w[1]));
     o.window_lo = w[0];
     o.window_hi = w[1];
   }
   if (t.has("plateau_window")) {
     auto w = t.quantities("plateau_window", dim::none);
     if (w.size() != 2) t.fail("plateau_window", "expected [lo, hi] (strain)");
+    if (!(w[1] > w[0] && w[0] >= 0)) t.fail("plateau_window", fmt::format("[{}, {}]: needs 0 <= lo < hi", w[0], w[1]));
     o.plateau_lo = w[0];
     o.plateau_hi = w[1];
   }
@@ -114,17 +116,14 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
     t.fail("window_signal", "must be \"volume_average\" or \"punch\"");
   }
   o.window_tolerance = t.in_range("window_tolerance", 1e-6, 1.0, o.window_tolerance);
-  o.window_min_points = int(t.integer("window_min_points", o.window_min_points));
-  if (o.window_min_points < 3) t.fail("window_min_points", "must be >= 3");
+  const long min_points = t.integer("window_min_points", o.window_min_points);  // checked before the cast
+  if (min_points < 3 || min_points > 1000000) t.fail("window_min_points", fmt::format("must be in [3, 1000000] (got {})", min_points));
+  o.window_min_points = static_cast<int>(min_points);
   o.window_max_strain = t.in_range("window_max_strain", 1e-9, 1.0, o.window_max_strain);
   o.strength_max_strain = t.in_range("strength_max_strain", 1e-9, 1.0, o.strength_max_strain);
   o.ke_ie_limit = t.in_range("ke_ie_limit", 0.0, 10.0, o.ke_ie_limit);
   o.overlap_limit = t.in_range("overlap_limit", 0.0, 1.0, o.overlap_limit);
-  try {
-    o.validate();
-  } catch (const InputError& e) {
-    t.fail("linear_window", e.what());
-  }
+  o.validate();  // every check above names its key; this one only repeats them
   return o;
 }
 
@@ -137,7 +136,17 @@ void AnalysisOptions::validate() const {
   if (plateau_lo && !(*plateau_hi > *plateau_lo && *plateau_lo >= 0)) {
     throw InputError(fmt::format("plateau window [{}, {}]: needs 0 <= lo < hi", *plateau_lo, *plateau_hi));
   }
-  if (!(strength_max_strain > 0)) throw InputError("strength window end strain must be > 0");
+  // The same ranges as the deck keys (from_deck), so a command-line flag cannot pass a value the
+  // [analysis] table refuses.
+  auto in = [](double v, double lo, double hi, const char* what) {
+    if (!(v >= lo && v <= hi)) throw InputError(fmt::format("{} = {}: must be in [{}, {}]", what, v, lo, hi));
+  };
+  in(strength_max_strain, 1e-9, 1.0, "strength window end strain (strength_max_strain, --strength-strain)");
+  in(window_max_strain, 1e-9, 1.0, "window_max_strain");
+  in(window_tolerance, 1e-6, 1.0, "window tolerance (window_tolerance, --window-tolerance)");
+  in(ke_ie_limit, 0.0, 10.0, "KE/IE limit (ke_ie_limit, --ke-ie-limit)");
+  in(overlap_limit, 0.0, 1.0, "overlap_limit");
+  if (window_min_points < 3) throw InputError(fmt::format("window_min_points = {}: must be >= 3", window_min_points));
   if (window_signal != "volume_average" && window_signal != "punch") {
     throw InputError(fmt::format("window signal '{}': must be 'volume_average' or 'punch'", window_signal));
   }

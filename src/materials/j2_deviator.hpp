@@ -8,7 +8,8 @@
 // q = sqrt(3/2 xi:xi), f = q - sigma_y(eps_p); if f > 0
 //   d_eps_p = f / (3G + (1 - beta) Ep + R_f beta Ep),   s = s_tr - 3G d_eps_p xi/q,
 //   alpha += (1 - beta) Ep d_eps_p xi/q.
-// Plastic work s_n+1 : d_eps_plastic is returned as dissipation.
+// Dissipation (s_n+1 - alpha_n+1) : d_eps_plastic is returned: the plastic work less the part
+// stored in the back stress.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -78,12 +79,15 @@ class J2Deviator {
       const double dp = (q - sy) / (3.0 * p_.G + (1.0 - p_.beta) * p_.Ep + Rf * p_.beta * p_.Ep);
       const double f = dp / q;
       s += (-3.0 * p_.G * f) * xi;
+      h[0] += dp;
       if (kinematic_) {
         alpha += ((1.0 - p_.beta) * p_.Ep * f) * xi;
         DeviatoricStorage<D>::store(alpha, h + 1);
+        // alpha : d eps_p is stored in the back stress (given back on reverse loading), not heat
+        diss += 1.5 * f * (s - alpha).ddot(xi);
+      } else {
+        diss += 1.5 * f * s.ddot(xi);
       }
-      h[0] += dp;
-      diss += 1.5 * f * s.ddot(xi);
     } else if (kinematic_) {
       DeviatoricStorage<D>::store(alpha, h + 1);
     }

@@ -17,6 +17,13 @@ TimeTemperatureShift TimeTemperatureShift::from_deck(const DeckTable& t) {
   } else if (kind == "arrhenius") {
     s.kind = Kind::arrhenius;
     s.activation_energy = t.positive("activation_energy", dim::molar_energy);
+    // A plain number is J/mol: "100" meant as kJ/mol would give a binder without temperature
+    // dependence (a_T(373 K) = 0.99) and no complaint. Polymers' flow: tens to hundreds of kJ/mol.
+    if (s.activation_energy < 1e3)
+      t.fail("activation_energy", fmt::format("{} J/mol is below 1 kJ/mol, far below any polymer's (tens to hundreds of "
+                                              "kJ/mol; a plain number is J/mol: write e.g. \"100 kJ/mol\"); for no "
+                                              "temperature shift use shift = \"none\"",
+                                              s.activation_energy));
   } else if (kind == "wlf") {
     s.kind = Kind::wlf;
     s.c1 = t.number("wlf_c1");

@@ -29,6 +29,7 @@ std::uint32_t parse_colour(const DeckTable& t, const std::string& key, std::uint
 ImageSpec read_image_spec(const DeckTable& t, const std::string& file) {
   ImageSpec s;
   s.file = file.empty() ? t.string("image") : file;
+  if (!file.empty() && t.has("image")) (void)t.string("image");  // read (so not 'unknown'), overridden by `file`
   s.pixel = t.positive("pixel_size", dim::length);
   s.tatb_density = t.positive("tatb_density", dim::density, 1934.0);
   s.binder_density = t.positive("binder_density", dim::density, 2020.0);

@@ -259,6 +259,9 @@ Scene<D> build_scene(const Deck& deck) {
       if (fields != "colours" && fields != "single") spec_t->fail("grain_fields", "must be 'colours' or 'single'");
       Packing packing;
       if (spec_t->has("packing_dir")) {
+        if (spec_t->has("seed"))
+          spec_t->fail("seed", "has no effect with specimen.packing_dir (the packing is read from there, not generated): "
+                               "remove one of the two");
         packing = read_packing(deck.resolve(spec_t->string("packing_dir")));
       } else {
         PackingSpec ps = read_packing_spec(root.table("packing"));
@@ -366,13 +369,17 @@ Scene<D> build_scene(const Deck& deck) {
   if (sc.particles.size() == 0) root.fail("geometry", "the geometry entries produced no particles");
 
   // ---- rigid bodies: the die, then [[rigid]] entries
-  auto add_body = [&](RigidBody<D> b, const Vec<D>& blo, const Vec<D>& bhi) {
+  // `shape`: the [[rigid]] entry's shape (a disk is filled as a disk, not as its bounding box);
+  // none for the die's boxes.
+  auto add_body = [&](RigidBody<D> b, const Vec<D>& blo, const Vec<D>& bhi, const Shape<D>* shape = nullptr) {
     b.field = sc.deformable_fields + static_cast<int>(sc.bodies.size());
     seed_subcells<D>(sc.grid, ppc, blo, bhi, [&](const Vec<D>& x) {
       bool in = true;
       for (int d = 0; d < D; ++d) in = in && x[d] > blo[d] && x[d] < bhi[d];
-      if (in) b.x0.push_back(x);
+      if (in && (!shape || shape->contains(x))) b.x0.push_back(x);
     });
+    if (b.x0.empty())
+      throw InputError(fmt::format("rigid body '{}' holds no rigid particle (smaller than a particle spacing of the grid)", b.name));
     b.x = b.x0;
     b.face0 = -1e300;
     for (auto& x : b.x0) b.face0 = std::max(b.face0, x.dot(b.normal) + 0.5 * h / ppc);
@@ -415,7 +422,7 @@ Scene<D> build_scene(const Deck& deck) {
       r.fail("name", fmt::format("'{}' is already the name of a field or body (die bodies: wall_left, wall_right, "
                                  "wall_bottom, punch)", b.name));
     const Shape<D> s = read_shape<D>(r);
-    b.normal = read_vec<D>(r, "normal", dim::none, Vec<D>::Zero());
+    b.normal = read_vec<D>(r, "normal", dim::none);
     const std::string c = r.string("contact", "unilateral");
     if (c == "stick") b.contact = RigidContact::stick;
     else if (c != "unilateral") r.fail("contact", "unknown rigid contact '" + c + "' (known: unilateral, stick)");
@@ -431,7 +438,7 @@ Scene<D> build_scene(const Deck& deck) {
       std::size_t covered = 0, first = 0;
       for (std::size_t p = 0; p < sc.particles.size(); ++p) {
         const Vec<D>& x = sc.particles.x[p];
-        bool in = true;
+        bool in = s.contains(x);
         for (int d = 0; d < D; ++d) in = in && x[d] > s.lo[d] && x[d] < s.hi[d];
         if (in && covered++ == 0) first = p;
       }
@@ -441,7 +448,7 @@ Scene<D> build_scene(const Deck& deck) {
                    "of material '{}'); a unilateral body pushes them out or carries them from the first step\n",
                    r.where("min"), b.name, covered, first, sc.material_names[sc.particles.material[first]]);
     }
-    add_body(std::move(b), s.lo, s.hi);
+    add_body(std::move(b), s.lo, s.hi, &s);
   }
 
   // ---- every particle must sit where its whole stencil is inside the grid

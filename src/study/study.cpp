@@ -228,15 +228,22 @@ StudySpec read_study(const std::string& file) {
     }
   }
   bool base_has_specimen = true;  // a base deck that does not parse is reported when its runs are built
+  bool reads_packing = false;     // the specimen reads a packing (specimen.packing_dir): no seed applies
   try {
-    base_has_specimen = toml::parse(s.base_text, s.base_deck).contains("specimen");
+    const toml::table base = toml::parse(s.base_text, s.base_deck);
+    base_has_specimen = base.contains("specimen");
+    reads_packing = base_has_specimen && base["specimen"].as_table() && base["specimen"].as_table()->contains("packing_dir");
   } catch (const toml::parse_error&) {
   }
   for (const auto& r : s.runs)
-    for (const auto& kv : r.set)
+    for (const auto& kv : r.set) {
       if (kv.first != "specimen.seed") base_has_specimen = base_has_specimen || kv.first.rfind("specimen.", 0) == 0;
+      reads_packing = reads_packing || kv.first == "specimen.packing_dir";
+    }
   if (seeds.size() > 1 && !base_has_specimen)
     st.fail("seeds", "the base deck has no [specimen] (no packed microstructure): every seed would give the same run");
+  if (seeds.size() > 1 && reads_packing)
+    st.fail("seeds", "the specimen is read from specimen.packing_dir, not generated: every seed would give the same run");
   if (auto a = deck.root().optional_table("analysis")) {
     s.analysis = AnalysisOptions::from_deck(*a);
     std::stringstream text;
@@ -255,7 +262,10 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
     throw InputError(fmt::format("{}:{}: {}", s.base_deck, e.source().begin.line, e.description()));
   }
   for (const auto& [key, text] : r.set) {
-    if (key == "specimen.seed" && !base.contains("specimen")) continue;  // no packed specimen: no seed
+    // no packed specimen, or one read from a packing_dir (the last set, after every override): no seed
+    if (key == "specimen.seed" &&
+        (!base.contains("specimen") || !base["specimen"].as_table() || base["specimen"].as_table()->contains("packing_dir")))
+      continue;
     // dotted key: walk/create tables, then parse the value text as TOML
     toml::table* t = &base;
     std::size_t start = 0, dot;

@@ -13,6 +13,7 @@
 #include "analysis/linear_window.hpp"
 #include "analysis/run_analysis.hpp"
 #include "core/error.hpp"
+#include "io/deck.hpp"
 #include "synthetic_run.hpp"
 
 using namespace pbx;
@@ -175,4 +176,28 @@ TEST(CsvTable, UnitSuffixes) {
   EXPECT_EQ(column_unit_factor("density_g_cm3"), 1e3);
   EXPECT_EQ(column_unit_factor("strain_percent"), 0.01);
   EXPECT_EQ(column_unit_factor("strain"), 1.0);
+}
+
+// Each [analysis] key's error names that key (a bad plateau window used to be reported against
+// linear_window), integers are range-checked before the cast, and the command-line path
+// (validate) refuses what the deck refuses.
+TEST(RunAnalysis, AnalysisTableErrorsNameTheirKey) {
+  auto deck_error = [](const std::string& body) {
+    return error_of([&] {
+      const Deck d = Deck::from_string("[analysis]\n" + body, "a.toml");
+      (void)AnalysisOptions::from_deck(d.root().table("analysis"));
+    });
+  };
+  EXPECT_NE(deck_error("plateau_window = [0.02, 0.01]\n").find("analysis.plateau_window: [0.02, 0.01]: needs 0 <= lo < hi"),
+            std::string::npos) << deck_error("plateau_window = [0.02, 0.01]\n");
+  EXPECT_NE(deck_error("linear_window = [0.02, 0.01]\n").find("analysis.linear_window"), std::string::npos);
+  EXPECT_NE(deck_error("window_min_points = 4294967299\n").find("analysis.window_min_points: must be in [3, 1000000]"),
+            std::string::npos) << deck_error("window_min_points = 4294967299\n");
+  EXPECT_EQ(deck_error("plateau_window = [0.01, 0.02]\nwindow_min_points = 5\n"), "");
+  AnalysisOptions o;
+  o.window_tolerance = 5.0;  // --window-tolerance 5: the deck key allows at most 1
+  EXPECT_NE(error_of([&] { o.validate(); }).find("must be in [1e-06, 1]"), std::string::npos) << error_of([&] { o.validate(); });
+  o = AnalysisOptions{};
+  o.ke_ie_limit = 20.0;
+  EXPECT_NE(error_of([&] { o.validate(); }).find("KE/IE limit"), std::string::npos);
 }

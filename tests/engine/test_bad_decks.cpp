@@ -1,4 +1,6 @@
 // Each class of bad deck gets its own clear message naming the key.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "block_deck.hpp"
@@ -65,6 +67,9 @@ TEST(BadDecks, EachClassNamesItsKey) {
       // a rigid body may not take a die body's name (history columns and fields are named by it)
       {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"punch\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 mm\"]\nnormal = [0, -1]\n",
        "rigid[0].name: 'punch' is already the name"},
+      // the contact face's normal is required, not zero by default (which read "must be a unit vector")
+      {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"anvil\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 mm\"]\n",
+       "rigid[0].normal: required key missing"},
   };
   for (const auto& c : cases) {
     const std::string msg = error_of(replace(ok, c.from, c.to));
@@ -82,4 +87,72 @@ TEST(BadDecks, RigidBodyOverParticlesIsStated) {
   Scene<2> sc = build_scene<2>(d);
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("rigid body 'anvil' starts over 16 deformable particle(s)"), std::string::npos) << err;
+}
+
+// A rigid disk is filled as a disk: its particle count is that of the disk (pi r^2 / spacing^2),
+// not of its bounding square (4/pi = 1.27 times more), which is what it was before.
+TEST(RigidBodies, DiskIsFilledAsADisk) {
+  const std::string deck = R"(
+[run]
+end_time = "1 us"
+snapshots = 0
+[grid]
+cell_size = "10 um"
+min = ["-0.05 mm", "-0.05 mm"]
+max = ["0.45 mm", "0.45 mm"]
+[materials.disk]
+model = "linear_elastic"
+density = "2.0 g/cm3"
+youngs_modulus = "1 GPa"
+poisson_ratio = 0.3
+[[geometry]]
+min = ["0 mm", "0 mm"]
+max = ["0.1 mm", "0.1 mm"]
+material = "disk"
+[[rigid]]
+name = "roller"
+shape = "disk"
+center = ["0.25 mm", "0.25 mm"]
+radius = "0.1 mm"
+normal = [0, -1]
+)";
+  Scene<2> sc = test::scene_from(deck);
+  ASSERT_EQ(sc.bodies.size(), 1u);
+  const auto& b = sc.bodies[0];
+  const double spacing = 10e-6 / 2;  // 2 x 2 particles per cell
+  const double disk = M_PI * 1e-4 * 1e-4 / (spacing * spacing);
+  EXPECT_NEAR(static_cast<double>(b.x0.size()), disk, 0.02 * disk);
+  for (const auto& x : b.x0) EXPECT_LE((x - Vec<2>(0.25e-3, 0.25e-3)).norm(), 1e-4 * (1 + 1e-12));
+}
+
+// specimen.seed with specimen.packing_dir is an error naming the key: a read packing has no seed.
+TEST(BadDecks, SpecimenSeedWithAPackingDirIsRefused) {
+  const std::string deck = R"(
+[run]
+end_strain = 0.01
+snapshots = 0
+[grid]
+cell_size = "20 um"
+[die]
+width = "1.0 mm"
+height = "1.2 mm"
+punch_velocity = "0.3 m/s"
+[materials.tatb]
+model = "linear_elastic"
+density = "1.934 g/cm3"
+bulk_modulus = "10 GPa"
+shear_modulus = "10 GPa"
+[materials.f2314]
+model = "linear_elastic"
+density = "2.02 g/cm3"
+bulk_modulus = "1 GPa"
+shear_modulus = "0.1 GPa"
+[specimen]
+grain_material = "tatb"
+binder_material = "f2314"
+packing_dir = "no_such_dir"
+seed = 3
+)";
+  const std::string msg = error_of(deck);
+  EXPECT_NE(msg.find("specimen.seed: has no effect with specimen.packing_dir"), std::string::npos) << msg;
 }

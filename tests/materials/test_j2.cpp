@@ -160,3 +160,25 @@ TEST(J2, PlasticWorkIsReportedAsDissipation) {
   ASSERT_GT(mp.plastic_strain(), 0.05);
   EXPECT_NEAR(mp.dissipated(), expected, 1e-9 * expected);
 }
+
+// With kinematic hardening (beta = 0) the yield surface keeps its size sigma0 and moves with the
+// back stress: the dissipation (s - alpha) : d eps_p is sigma0 times the equivalent plastic strain
+// increment, forward and in reverse flow. Booking the whole plastic work s : d eps_p (as before)
+// gives 0.9 GPa per unit plastic strain forward at alpha_eq = 0.1 GPa and less than sigma0 in reverse.
+TEST(J2, KinematicHardeningStoresTheBackStressWorkAndDissipatesTheRest) {
+  auto m = test::material_from<3>(j2_body(2e9, 0.0));
+  MaterialPoint<3> mp(*m);
+  Mat3 L = Mat3::Zero();
+  double expected = 0, prev = 0;
+  for (int i = 0; i < 600; ++i) {
+    L(0, 1) = i < 300 ? 1000.0 : -1000.0;  // simple shear forward, then back
+    mp.step(L, 1e-6);
+    expected += sigma0 * (mp.plastic_strain() - prev);
+    prev = mp.plastic_strain();
+    if (i == 299) {
+      EXPECT_NEAR(mp.dissipated(), expected, 1e-6 * expected) << "end of the forward shear";
+    }
+  }
+  ASSERT_GT(mp.plastic_strain(), 0.1);
+  EXPECT_NEAR(mp.dissipated(), expected, 1e-6 * expected);
+}

@@ -48,6 +48,8 @@ TEST(MaterialErrors, NameTheMaterialAndTheKey) {
   expect_error(replace(f, "1e-7, 1e-6, ", ""), "prony_shear_times", "has 6 entries");
   expect_error(replace(f, "\"10 MPa\"", "\"-1 MPa\""), "long_term_shear_modulus", "must be >= 0");
   expect_error(replace(f, "\"arrhenius\"", "\"williams\""), "shift", "unknown shift");
+  // a plain number is J/mol: 100 meant as kJ/mol would switch the binder's temperature effect off
+  expect_error(replace(f, "\"100 kJ/mol\"", "100"), "activation_energy", "100 J/mol is below 1 kJ/mol");
   expect_error(replace(f, "\"2.02 g/cm3\"", "0.0"), "density", "must be > 0");
   expect_error(replace(t, "\"j2_mie_gruneisen\"", "\"j2_mie_grunesen\""), "model", "unknown material model");
   expect_error(t + "shear_modulos = 3.0\n", "shear_modulos", "unknown key");

@@ -123,3 +123,42 @@ TEST(MieGruneisen, PointDriverPastTheFitStopsWithTheReason) {
         << e.what();
   }
 }
+
+// The tangent with a volume-corrected gamma (a != 0) and energy on the particle, against a
+// finite difference along the isentrope (the test above has a = 0); and in expansion.
+TEST(MieGruneisen, TangentWithGammaCorrectionAndInExpansion) {
+  MieGruneisenEos::Params p;
+  p.rho0 = 1934.0, p.c = 2340.0, p.s1 = 2.32, p.s2 = 0.1, p.s3 = 0.05, p.gamma0 = 1.60, p.a = 0.4;
+  const MieGruneisenEos eos(p, "tatb");
+  for (double Jend : {0.85, 1.05}) {
+    double h[3];
+    eos.init_history(h);
+    for (int i = 1; i <= 4000; ++i) eos.update(1.0 + (Jend - 1.0) * i / 4000, 2e3, h);  // heat: E > 0 too
+    ASSERT_GT(h[0], 0.0);
+    double g[3] = {h[0], h[1], h[2]};
+    const double J = h[1], dJ = 1e-7 * (Jend < 1 ? -1 : 1);
+    const auto r0 = eos.update(J, 0.0, g);
+    const auto r1 = eos.update(J + dJ, 0.0, g);
+    EXPECT_NEAR(r0.bulk_modulus, -J * (r1.pressure - r0.pressure) / dJ, 2e-5 * r0.bulk_modulus) << "J = " << Jend;
+  }
+}
+
+// Heat reaches the energy (per reference volume) only with dissipation_to_energy: at fixed volume
+// E grows by the heat exactly and p by gamma times it; with the flag off neither moves.
+TEST(MieGruneisen, HeatRaisesEnergyAndPressureOnlyWithTheFlag) {
+  MieGruneisenEos::Params p;
+  p.rho0 = 1934.0, p.c = 2340.0, p.s1 = 2.32, p.gamma0 = 1.60, p.a = 0.4;
+  for (bool flag : {true, false}) {
+    p.dissipation_to_energy = flag;
+    const MieGruneisenEos eos(p, "tatb");
+    double h[3];
+    eos.init_history(h);
+    const double J = 0.95;
+    const auto r0 = eos.update(J, 0.0, h);
+    const double E0 = h[0];
+    const auto r1 = eos.update(J, 5e6, h);  // 5 MJ/m^3 at fixed J (dJ = 0)
+    const double mu = 1.0 / J - 1.0;
+    EXPECT_NEAR(h[0] - E0, flag ? 5e6 : 0.0, 1e-6) << flag;
+    EXPECT_NEAR(r1.pressure - r0.pressure, flag ? (1.60 + 0.4 * mu) * 5e6 : 0.0, 1e-3) << flag;
+  }
+}

@@ -51,3 +51,16 @@ TEST(Tait, HydrostaticPathOfTheBinderFollowsTait) {
     EXPECT_NEAR(s.stress.von_mises(), 0.0, 1e-9 * B);
   }
 }
+
+// The tangent away from J = 1 (where its factors are 1): K = -J dp/dJ, by finite difference.
+TEST(Tait, TangentMatchesFiniteDifferenceUnderCompression) {
+  const TaitEos eos(0.08936, 0.27e9);
+  double* none = nullptr;
+  for (double J : {0.97, 0.9, 0.8}) {
+    const double dJ = 1e-7;
+    const double K = eos.update(J, 0.0, none).bulk_modulus;
+    const double fd = -J * (eos.pressure(J + dJ) - eos.pressure(J - dJ)) / (2 * dJ);
+    EXPECT_NEAR(K, fd, 1e-6 * fd) << J;
+    EXPECT_GT(K, 1.2 * 0.27e9) << J;  // stiffens under compression
+  }
+}

@@ -177,3 +177,20 @@ TEST(Viscoelastic, PlaneStrainMatchesThreeDimensionsOnInPlanePaths) {
     EXPECT_NEAR(a.dissipated(), b.dissipated(), 1e-12 * b.dissipated());
   }
 }
+
+// The point driver's step_shear path (pbxmpm material --path step_shear) jumps in a step short
+// against every relaxation time: its first sample is G(0) gamma0 also at 373 K with a 10 s hold,
+// where F2314's fastest branch relaxes in 1e-7 s x a_T = 1.5e-11 s (the jump of 1e-12 x hold =
+// 1e-11 s it used to take read 3 % low).
+TEST(Viscoelastic, PointDriverStepShearJumpIsInstantaneousAtHighTemperature) {
+  auto m = test::material_from<3>(test::f2314_body, 373.0);
+  PointLoad load;
+  load.path = PointPath::step_shear;
+  load.strain = 0.01;
+  load.duration = 10.0;
+  load.steps = 50;
+  const auto out = drive_point(*m, load);
+  ASSERT_GE(out.size(), 2u);
+  const double G0 = G_inf + 8 * Gk;
+  EXPECT_NEAR(out[1].stress.xy, G0 * 0.01, 1e-3 * G0 * 0.01);
+}

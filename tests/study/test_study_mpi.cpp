@@ -172,6 +172,43 @@ TEST(Study, GroupVaryingTheSeedKeepsItsSeeds) {
   fs::remove_all(dir);
 }
 
+// A base deck whose specimen is read from a packing (specimen.packing_dir) gets no specimen.seed in
+// its run decks (a run deck refuses the pair: a read packing has no seed), and several seeds are
+// refused (they would all give the same run). Before, every such study stopped at its first run.
+TEST(Study, SpecimenReadFromAPackingGetsNoSeed) {
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_study_packdir_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string base = slurp(fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml");
+  const auto a = base.find("[packing]"), b = base.find("\n[", a + 1);
+  ASSERT_NE(a, std::string::npos);
+  base.erase(a, b == std::string::npos ? std::string::npos : b + 1 - a);
+  for (const char* sub : {"[packing.coarse]", "[packing.fine]"})
+    if (const auto c = base.find(sub); c != std::string::npos) base.erase(c, base.find("\n[", c + 1) + 1 - c);
+  const auto sp = base.find("[specimen]");
+  ASSERT_NE(sp, std::string::npos);
+  base.insert(base.find('\n', sp) + 1, "packing_dir = \"packing\"\n");
+  const auto own_seed = base.find("seed = 1\n", sp);  // the paper base deck's own specimen.seed
+  ASSERT_NE(own_seed, std::string::npos);
+  base.erase(own_seed, 9);
+  std::ofstream(dir / "base.toml") << base;
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"packdir\"\nbase = \"base.toml\"\n"
+                                       "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n";
+  const StudySpec s = read_study((dir / "study.toml").string());
+  const toml::table deck = toml::parse(run_deck_text(s, s.runs[0]));
+  EXPECT_FALSE(deck["specimen"]["seed"]) << run_deck_text(s, s.runs[0]);
+  EXPECT_EQ(deck["specimen"]["packing_dir"].value<std::string>(), "packing");
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"packdir\"\nbase = \"base.toml\"\nseeds = [1, 2]\n"
+                                       "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n";
+  std::string msg = "(no error)";
+  try {
+    read_study((dir / "study.toml").string());
+  } catch (const InputError& e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("study.seeds: the specimen is read from specimen.packing_dir"), std::string::npos) << msg;
+  fs::remove_all(dir);
+}
+
 // A study-wide [analysis] table applies one linear window to every run, also to runs that were
 // already finished when the study is resumed; its unknown keys are errors.
 TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
