@@ -57,6 +57,10 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
     failures = 0;
     best = k;
   }
+  // Never below the minimum window: a first failed test at the last point used to leave a
+  // one-point window (moduli NaN) without the note below.
+  const std::size_t floor = static_cast<std::size_t>(opt.min_points - 1);
+  best = std::max(best, floor);
   // The tangent test reacts only once several points lie past the knee. Trim them: fit the first
   // two thirds of the window, and end it before the first later point that falls below that line
   // by more than max(4 rms, 0.2 % of its stress).
@@ -71,7 +75,7 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
     for (std::size_t q = base; q <= best; ++q) {
       const double r = stress[idx[q]] - (f.intercept + f.slope * strain[idx[q]]);
       if (r < -std::max(4.0 * f.rms_residual, 2e-3 * std::fabs(stress[idx[q]]))) {
-        best = q - 1;
+        best = std::max(q - 1, floor);
         break;
       }
     }
@@ -80,7 +84,7 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
   w.lo = strain[idx[0]];
   w.hi = strain[idx[best]];
   w.points = int(best + 1);
-  if (int(best + 1) == opt.min_points) {
+  if (int(best + 1) <= opt.min_points) {
     w.note = "the linear window is the minimum size: the curve bends (or is noisy) right after the start";
   }
   return w;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <filesystem>
 #include <map>
 
@@ -354,6 +355,7 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
 
   // Eq. 19-22 on the density group.
   std::vector<double> rho, Gs, Ks;
+  std::set<std::string> conditions;  // study values: the seeds of one value differ a little in density
   double tmd = std::nan("");
   for (const auto& r : runs) {
     if (!std::isfinite(tmd)) tmd = num(r.analysis, {"specimen", "tmd_kg_m3"});
@@ -363,6 +365,7 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
       rho.push_back(d);
       Gs.push_back(G);
       Ks.push_back(K);
+      conditions.insert(str(r.entry, "value"));
     }
   }
   const double rho0 = opt.rho0.value_or(std::isfinite(tmd) ? tmd : 1942.0);
@@ -377,11 +380,13 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   std::sort(distinct_rho.begin(), distinct_rho.end());
   distinct_rho.erase(std::unique(distinct_rho.begin(), distinct_rho.end(), [](double a, double b) { return std::fabs(a - b) < 0.05; }),
                      distinct_rho.end());
-  if (distinct_rho.size() >= 2) {
+  // Two densities must be two study conditions: the seeds of one porosity scatter by a few kg/m^3
+  // (the packer's porosity tolerance), and a power law through that scatter is noise (n = -14).
+  if (distinct_rho.size() >= 2 && conditions.size() >= 2) {
     hsj.set("G", fit_density_law(rho, Gs, rho0, opt.GU, opt.confidence).to_json());
     hsj.set("K", fit_density_law(rho, Ks, rho0, opt.KU, opt.confidence).to_json());
   } else {
-    hsj.set("note", "fewer than 2 densities: Eq. 19-22 not fitted");
+    hsj.set("note", "fewer than 2 density conditions: Eq. 19-22 not fitted");
   }
   // Bounds from the run's own phases (first run), and for the pore-free composite (compare G^U, K^U).
   if (!runs.empty()) {

@@ -180,12 +180,14 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
           const double nln = nl.norm();
           const Vec<D> nu = nln > 0.0 ? Vec<D>(nl / nln) : Vec<D>(Vec<D>::Zero());
           const double gln = 0.5 * std::abs((grid.vgrad[ka] - gr).dot(nu));
-          if (!(L.thickness > 0.0 && gln > 0.0 && -jump.dot(nu) > L.closure * L.thickness)) {
+          // A node without interface area (gln = 0: the particles' normals cancel) has no spring
+          // to act: Coulomb below, as for a squeezed-out layer (it used to get no contact at all).
+          const bool squeezed = L.thickness > 0.0 && -jump.dot(nu) > L.closure * L.thickness;
+          if (gln > 0.0 && !squeezed) {
             if (!after_update) continue;  // the fields move on their own until the spring acts
             // Backward Euler in the jump: the impulse J that the spring exerts over the step with
             // the jump at the end of it, s - dt J / m_red, where s = jump + dt (v_r - v_a) is the
             // end-of-step jump without it. Stable for any stiffness; sticks as k dt^2/m_red grows.
-            if (!(gln > 0.0)) continue;
             const Vec<D>& n = nu;
             const double area = gln;
             const double mred = ma * mr / (ma + mr);

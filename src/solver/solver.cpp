@@ -185,9 +185,10 @@ void Solver<D>::keep_interpolated_momentum() {
 template <int D>
 Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
   const Vec<D> grav = sc_.settings.gravity;
-  // Mass-centre offsets serve two checks: the rigid-body contact gate and the field position check
-  // (contact.position_check), which without them would compare zero offsets and never fire.
-  const bool offsets = !sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0;
+  // Mass-centre offsets serve the rigid-body contact gate, the field position check
+  // (contact.position_check), which without them would compare zero offsets and never fire, and
+  // the binder_layer jump (its fields' mass centres), which without them would read a fixed jump.
+  const bool offsets = !sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0 || sc_.grid.layers();
   return Scatter<D>{sc_.grid, sc_.particles, sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0,
                     mass_momentum, forces, offsets, track_gradients_, sc_.grid.layers()};
 }
@@ -280,7 +281,9 @@ template <int D>
 void Solver<D>::rigid_stage(bool record) {
   if (!sc_.bodies.empty()) {
     RigidContactResult<D> r;
-    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + (record ? dt_ : 0.0), mass_eps_, r);
+    // The bodies' velocity over the step (t_n+1): also in MUSL's unrecorded remap pass, whose
+    // momenta carry the end-of-step velocities (it used t_n: a punch lag of up to 1e-4 m/s in the ramp).
+    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, r);
     if (record) {
       for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
         sc_.bodies[b].impulse += r.impulse[b];

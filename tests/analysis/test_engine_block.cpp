@@ -32,8 +32,8 @@ TEST(EngineBlock, HomogeneousElasticBlockInTheDieGivesBackKGE) {
   EXPECT_NEAR(at("moduli_volume_average", "E_Pa") / E, 1.0, 0.01);
   // The side-wall reaction gives lambda = K - 2G/3 to < 1 %.
   EXPECT_NEAR(at("moduli", "lambda_Pa") / (K - 2 * G / 3), 1.0, 0.01);
-  // The demo is quasi-static (mass scaling 10, ~40 wave transits): the punch reaction gives M to
-  // 1 % (measured +1.0 %); the punch constraint on nodes near the face costs up to ~1 % (theory.md).
+  // The demo is quasi-static (mass scaling 10, ~40 wave transits): the punch reaction gives M within
+  // 1.5 % (measured +1.2 % on 2026-12-02); the punch constraint on nodes near the face costs up to ~1 % (theory.md).
   EXPECT_NEAR(at("moduli", "M_Pa") / (K + 4 * G / 3), 1.0, 0.015);
   if (!HasFailure()) fs::remove_all(out);
 }

@@ -201,3 +201,18 @@ TEST(RunAnalysis, AnalysisTableErrorsNameTheirKey) {
   o.ke_ie_limit = 20.0;
   EXPECT_NE(error_of([&] { o.validate(); }).find("KE/IE limit"), std::string::npos);
 }
+
+// Exactly min_points points in range, the last test failing once: the window is the minimum one
+// with its note, never a single point (moduli NaN) as it was.
+TEST(LinearWindow, NeverBelowTheMinimumWindow) {
+  std::vector<double> e, s;
+  for (int i = 0; i < 8; ++i) {
+    e.push_back(1e-3 * i);
+    s.push_back(4e9 * std::min(e.back(), 4e-3));  // straight to point 4, then flat
+  }
+  LinearWindowOptions o;
+  o.max_strain = 0.02;
+  const LinearWindow w = find_linear_window(e, s, o);
+  EXPECT_EQ(w.points, 8);
+  EXPECT_NE(w.note.find("minimum size"), std::string::npos) << w.note;
+}

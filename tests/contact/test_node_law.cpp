@@ -126,6 +126,15 @@ TEST(NodeLaw, NormalOptionsDecideTheDirection) {
   const Vec<2> n = Vec<2>(2.0, 1.0).normalized();
   EXPECT_NEAR((avg.mom[0] / 2.0 - avg.mom[1] / 3.0).dot(n), 0.0, 1e-15);
   EXPECT_NEAR((avg.mom[0] + avg.mom[1] - g.mom[0] - g.mom[1]).norm(), 0.0, 1e-15);
+  // own: each field against the other along its own gradient, a along +x, b along -y; both
+  // approach, d_a = (-1.2, 0), d_b = (0, 1.2), and the residual R = (-1.2, 1.2) is shared by mass:
+  // a ends at (2, 2) + d_a - (2/5) R = (1.28, 1.52), b at (0.72, 0.48).
+  Grid<2> own = g;
+  field_contact<2>(own, matrix(2, fl, ContactNormal::own), 2, 1e-9, 0.0);
+  EXPECT_NEAR(own.mom[0].x(), 1.28, 1e-14);
+  EXPECT_NEAR(own.mom[0].y(), 1.52, 1e-14);
+  EXPECT_NEAR(own.mom[1].x(), 0.72, 1e-14);
+  EXPECT_NEAR(own.mom[1].y(), 0.48, 1e-14);
 }
 
 TEST(NodeLaw, ThreeFieldsConserveMomentumAndStopApproach) {
