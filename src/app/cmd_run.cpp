@@ -52,9 +52,14 @@ void register_run(CLI::App& app) {
     std::string deck_name = args->deck;
     if (!args->restart.empty()) {
       ck = read_checkpoint(args->restart);
-      deck = Deck::from_string(ck.deck_text, ck.deck_name);
+      // relative paths in the deck (specimen.packing_dir) resolve against the original deck's folder
+      deck = Deck::from_string(ck.deck_text, ck.deck_name, std::filesystem::path(ck.deck_name).parent_path().string());
       deck_name = ck.deck_name;
-      if (run->count("--out") == 0) args->out = std::filesystem::path(args->restart).parent_path().string();
+      if (run->count("--out") == 0) {
+        // the checkpoint's folder; "checkpoint.h5" alone is the current one (an empty --out wrote nothing)
+        const auto folder = std::filesystem::path(args->restart).parent_path();
+        args->out = folder.empty() ? "." : folder.string();
+      }
     } else if (args->deck.empty()) {
       throw InputError("pbxmpm run: give a deck, or --restart CHECKPOINT");
     } else {

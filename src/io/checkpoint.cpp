@@ -2,6 +2,8 @@
 
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <hdf5.h>
@@ -11,15 +13,17 @@
 namespace pbx {
 
 namespace {
-void write_string(hid_t loc, const char* name, const std::string& s) {
+// Returns false when any HDF5 call failed (a full disk, a quota), so the checkpoint is not used.
+bool write_string(hid_t loc, const char* name, const std::string& s) {
   hid_t space = H5Screate(H5S_SCALAR);
   hid_t type = H5Tcopy(H5T_C_S1);
   H5Tset_size(type, s.size() + 1);
   hid_t a = H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(a, type, s.c_str());
-  H5Aclose(a);
+  const bool ok = space >= 0 && type >= 0 && a >= 0 && H5Awrite(a, type, s.c_str()) >= 0;
+  if (a >= 0) H5Aclose(a);
   H5Tclose(type);
   H5Sclose(space);
+  return ok;
 }
 std::string read_string(hid_t loc, const char* name) {
   hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
@@ -38,28 +42,38 @@ void write_checkpoint(const std::string& file, const CheckpointData& c) {
   const std::string tmp = file + ".tmp";
   hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f < 0) throw InputError(fmt::format("cannot write checkpoint '{}'", file));
-  write_string(f, "deck_text", c.deck_text);
-  write_string(f, "deck_name", c.deck_name);
-  write_string(f, "code_versions", c.code_versions);
-  write_string(f, "format", "pbxmpm-checkpoint-1");
+  bool ok = write_string(f, "deck_text", c.deck_text);
+  ok = write_string(f, "deck_name", c.deck_name) && ok;
+  ok = write_string(f, "code_versions", c.code_versions) && ok;
+  ok = write_string(f, "format", "pbxmpm-checkpoint-1") && ok;
   hid_t gs = H5Gcreate2(f, "scalars", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ok = gs >= 0 && ok;
   for (const auto& [k, v] : c.scalars) {
+    if (gs < 0) break;
     hid_t space = H5Screate(H5S_SCALAR);
     hid_t a = H5Acreate2(gs, k.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
-    H5Awrite(a, H5T_NATIVE_DOUBLE, &v);
-    H5Aclose(a);
+    ok = a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &v) >= 0 && ok;
+    if (a >= 0) H5Aclose(a);
     H5Sclose(space);
   }
-  H5Gclose(gs);
+  if (gs >= 0) H5Gclose(gs);
   for (const auto& [k, v] : c.arrays) {
     hsize_t n = v.size();
     hid_t space = H5Screate_simple(1, &n, nullptr);
     hid_t ds = H5Dcreate2(f, k.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (n > 0) H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Dclose(ds);
+    ok = ds >= 0 && ok;
+    if (ds >= 0 && n > 0) ok = H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) >= 0 && ok;
+    if (ds >= 0) H5Dclose(ds);
     H5Sclose(space);
   }
-  H5Fclose(f);
+  ok = H5Fclose(f) >= 0 && ok;
+  // Only a checkpoint written whole replaces the previous one: a failed write (full disk) keeps
+  // the last good checkpoint and says so.
+  if (!ok) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(fmt::format("cannot write checkpoint '{}' (disk full?): the previous checkpoint is kept", file));
+  }
   std::filesystem::rename(tmp, file);
 }
 

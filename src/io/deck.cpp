@@ -25,11 +25,11 @@ Deck::Deck(Deck&&) noexcept = default;
 Deck& Deck::operator=(Deck&&) noexcept = default;
 Deck::~Deck() = default;
 
-Deck Deck::from_string(const std::string& text, const std::string& name) {
+Deck Deck::from_string(const std::string& text, const std::string& name, const std::string& directory) {
   Deck d;
   d.impl_->name = name;
   d.impl_->text = text;
-  d.impl_->dir.assign(1, '.');
+  d.impl_->dir = directory.empty() ? "." : directory;
   try {
     d.impl_->root = toml::parse(text, name);
   } catch (const toml::parse_error& e) {

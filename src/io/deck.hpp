@@ -61,7 +61,8 @@ class DeckTable {
 class Deck {
  public:
   static Deck from_file(const std::string& file);
-  static Deck from_string(const std::string& text, const std::string& name = "<string>");
+  // `directory`: the folder relative paths in the deck are resolved against.
+  static Deck from_string(const std::string& text, const std::string& name = "<string>", const std::string& directory = ".");
   Deck(Deck&&) noexcept;
   Deck& operator=(Deck&&) noexcept;
   ~Deck();

@@ -42,7 +42,7 @@ void SnapshotWriter::write(const SnapshotData& s) {
   const std::size_t n = s.count;
   write_dataset(f, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
   write_dataset(f, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
-  write_dataset(f, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, yy, zz, xy, yz, zx), tension positive");
+  write_dataset(f, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
   write_dataset(f, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
   write_dataset(f, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
   write_dataset(f, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");

@@ -13,7 +13,7 @@ struct SnapshotData {
   std::size_t count = 0;
   std::vector<double> position;         // count x 3 (z = 0 in 2D), m
   std::vector<double> velocity;         // count x 3, m/s
-  std::vector<double> stress;           // count x 6 (xx, yy, zz, xy, yz, zx), Pa
+  std::vector<double> stress;           // count x 6 (xx, xy, xz, yy, yz, zz: XDMF Tensor6 order), Pa
   std::vector<double> pressure;         // -tr(sigma)/3, Pa
   std::vector<double> von_mises;        // Pa
   std::vector<double> plastic_strain;   // equivalent plastic strain, 1

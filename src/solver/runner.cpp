@@ -64,7 +64,12 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   }
   if (!opt_.out_dir.empty()) {
     std::filesystem::create_directories(opt_.out_dir);
-    if (!restart) history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
+    if (!restart) {
+      history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
+      // A checkpoint left in a reused folder by an earlier run would, on a later --restart, cut this
+      // run's history and append the old run's rows: a fresh run starts without one.
+      std::filesystem::remove(std::filesystem::path(opt_.out_dir) / "checkpoint.h5");
+    }
     snapshots_ = SnapshotWriter((std::filesystem::path(opt_.out_dir) / "snapshots").string());
   }
 }
@@ -208,7 +213,9 @@ void Runner<D>::write_snapshot() {
       s.velocity[3 * p + d] = P.v[p][d];
     }
     const Sym3& st = P.stress[p];
-    const double c[6] = {st.xx, st.yy, st.zz, st.xy, st.yz, st.zx};
+    // XDMF's Tensor6 order, which ParaView expands into the 3 x 3 tensor (xx, yy, zz, xy, ... made
+    // ParaView show sigma_yy as its XY component and every invariant wrong)
+    const double c[6] = {st.xx, st.xy, st.zx, st.yy, st.yz, st.zz};
     for (int k = 0; k < 6; ++k) s.stress[6 * p + k] = c[k];
     s.pressure[p] = -st.mean();
     s.von_mises[p] = st.von_mises();

@@ -105,9 +105,12 @@ struct Mpi {
   }
 };
 
+// Simulated to the end (run.json says so). Not also "analysed": a finished run whose analysis
+// failed or is missing is re-analysed with the finished runs, never simulated again (hours at
+// 2.5 um cells); the report names a run whose analysis.json is still missing.
 bool finished(const fs::path& dir) {
   std::ifstream f(dir / "run.json");
-  if (!f || !fs::exists(dir / "analysis.json")) return false;
+  if (!f) return false;
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str().find("\"status\": \"finished\"") != std::string::npos;
@@ -318,11 +321,13 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   // study.json first, so a report can name what is missing from an interrupted study
   if (mpi.rank == 0) {
     std::ofstream f(out / "study.json");
-    f << "{\n  \"name\": \"" << s.name << "\",\n  \"base\": \"" << s.base_deck << "\",\n  \"runs\": [\n";
+    // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
+    f << "{\n  \"name\": " << json_quote(s.name) << ",\n  \"base\": " << json_quote(s.base_deck) << ",\n  \"runs\": [\n";
     for (std::size_t i = 0; i < s.runs.size(); ++i) {
       const auto& r = s.runs[i];
-      f << fmt::format("    {{\"id\": \"{}\", \"dir\": \"runs/{}\", \"group\": \"{}\", \"value\": {}, \"seed\": {}}}{}\n", r.id,
-                       r.id, r.group, json_quote(r.value_label), r.seed, i + 1 < s.runs.size() ? "," : "");
+      f << fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),
+                       json_quote("runs/" + r.id), json_quote(r.group), json_quote(r.value_label), r.seed,
+                       i + 1 < s.runs.size() ? "," : "");
     }
     f << "  ]\n}\n";
   }
@@ -445,8 +450,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       double mass = 0;
       for (double m : scene.particles.mass) mass += m;
       const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
-      ro.study_json = fmt::format(R"({{"study": "{}", "id": "{}", "group": "{}", "value": {}, "temperature_K": {}, "density_g_cm3": {:.6g}, "seed": {}}})",
-                                  s.name, r.id, r.group, json_quote(r.value_label), scene.control.temperature,
+      ro.study_json = fmt::format(R"({{"study": {}, "id": {}, "group": {}, "value": {}, "temperature_K": {}, "density_g_cm3": {:.6g}, "seed": {}}})",
+                                  json_quote(s.name), json_quote(r.id), json_quote(r.group), json_quote(r.value_label), scene.control.temperature,
                                   rho / 1000.0, r.seed);
       // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
       // it, history columns of another code version) is set aside and the run starts over.

@@ -3,6 +3,7 @@
 // runs the pbxmpm binary on a small input (well under a second).
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -129,4 +130,51 @@ TEST_F(CommandLine, PackReadsARunDeckAndChecksItsOutputFolderFirst) {
   EXPECT_NE(r.output.find("seed 7"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "p" / "packing.csv"));
   expect_refused("pack " + deck + " --out /proc/pbxmpm_cannot_be_here", "file system error on '/proc/pbxmpm_cannot_be_here");
+}
+
+// `pbxmpm run --restart checkpoint.h5` with the checkpoint in the current folder continues the run
+// there (the output folder was "", so nothing was written at all), and ends with the history of an
+// uninterrupted run; a fresh run into that folder removes the old checkpoint.
+TEST_F(CommandLine, RestartFromABareCheckpointNameWritesBesideIt) {
+  const std::string deck = fmt::format(R"([run]
+end_strain = 0.002
+history_points = 20
+snapshots = 0
+[grid]
+cell_size = "20 um"
+[solver]
+mass_scaling = 100
+[die]
+width = "0.08 mm"
+height = "0.2 mm"
+punch_velocity = "0.3 m/s"
+ramp_strain = 0.0005
+[materials.block]
+model = "linear_elastic"
+density = "1.934 g/cm3"
+bulk_modulus = "10.59 GPa"
+shear_modulus = "11.5 GPa"
+[[geometry]]
+min = ["0 mm", "0 mm"]
+max = ["0.08 mm", "0.2 mm"]
+material = "block"
+)");
+  const std::string d = write("block.toml", deck);
+  const fs::path whole = dir / "whole", part = dir / "part";
+  ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q", d, whole.string())).code, 0);
+  ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q --checkpoint-every 5", d, part.string())).code, 0);
+  ASSERT_TRUE(fs::exists(part / "checkpoint.h5"));
+  fs::remove(part / "run.json");  // the restart must write it again (with an empty --out it wrote nothing)
+  {  // start from the checkpoint's own folder, naming it bare
+    const std::string cmd = fmt::format("cd '{}' && '{}' run --restart checkpoint.h5 -q 2>&1", part.string(), PBXMPM_BINARY);
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  auto slurp = [](const fs::path& p) {
+    std::ifstream f(p);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(slurp(part / "history.csv"), slurp(whole / "history.csv"));
+  EXPECT_NE(slurp(part / "run.json").find("\"restarts\": 1"), std::string::npos) << slurp(part / "run.json");
+  ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q", d, part.string())).code, 0);
+  EXPECT_FALSE(fs::exists(part / "checkpoint.h5")) << "a fresh run kept the earlier run's checkpoint";
 }

@@ -14,6 +14,7 @@
 #include <toml++/toml.h>
 
 #include "core/error.hpp"
+#include "analysis/json.hpp"
 #include "io/deck.hpp"
 #include "solver/runner.hpp"
 #include "study/study.hpp"
@@ -251,6 +252,35 @@ TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("analysis.colour"), std::string::npos) << e.what();
   }
+  fs::remove_all(dir);
+}
+
+// A finished run whose analysis.json is missing (the analysis failed, or was deleted) is
+// re-analysed when the study is started again, not simulated again: its history.csv stays the
+// same file (it used to be rewritten by a whole new run). Names with quotes give valid JSON.
+TEST(Study, FinishedRunWithoutAnalysisIsReanalysedNotRerun) {
+  const fs::path dir = make_study();
+  std::string text = slurp(dir / "study.toml");
+  text.replace(text.find("name = \"mpi-check\""), 18, "name = \"a \\\"quoted\\\" study\"");
+  std::ofstream(dir / "study.toml") << text;
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  const StudySpec s = read_study((dir / "study.toml").string());
+  EXPECT_EQ(s.name, "a \"quoted\" study");
+  ASSERT_EQ(run_study(s, o), 0);
+  const fs::path run = dir / "out" / "runs" / s.runs[0].id;
+  const std::string history = slurp(run / "history.csv");
+  const std::string run_json = slurp(run / "run.json");
+  fs::remove(run / "analysis.json");
+  ASSERT_EQ(run_study(s, o), 0);
+  EXPECT_TRUE(fs::exists(run / "analysis.json"));
+  EXPECT_EQ(slurp(run / "run.json"), run_json) << "the run was simulated again";
+  EXPECT_EQ(slurp(run / "history.csv"), history);
+  // study.json and the runs' study block parse (the name is escaped)
+  EXPECT_NO_THROW(Json::parse(slurp(dir / "out" / "study.json")));
+  EXPECT_NO_THROW(Json::parse(run_json));
   fs::remove_all(dir);
 }
 
