@@ -6,7 +6,10 @@
 
 namespace pbx {
 
-std::vector<std::pair<int, int>> contact_pairs(const Packing& p) {
+namespace {
+// Pairs whose centres (nearest periodic image) lie closer than reach(a, b).
+template <class Reach>
+std::vector<std::pair<int, int>> pairs_within(const Packing& p, Reach reach_of) {
   std::vector<std::pair<int, int>> out;
   const int n = static_cast<int>(p.grains.size());
   for (int i = 0; i < n; ++i)
@@ -15,10 +18,34 @@ std::vector<std::pair<int, int>> contact_pairs(const Packing& p) {
       Eigen::Vector2d d = b.centre - a.centre;
       if (p.periodic)
         for (int k = 0; k < 2; ++k) d[k] -= p.box[k] * std::round(d[k] / p.box[k]);
-      const double reach = 0.5 * (a.diameter + b.diameter) + a.coat + b.coat + p.contact_gap;
+      const double reach = reach_of(a, b);
       if (d.squaredNorm() < reach * reach) out.emplace_back(i, j);
     }
   return out;
+}
+}  // namespace
+
+std::vector<std::pair<int, int>> contact_pairs(const Packing& p) {
+  return pairs_within(p, [&](const Grain& a, const Grain& b) {
+    return 0.5 * (a.diameter + b.diameter) + a.coat + b.coat + p.contact_gap;
+  });
+}
+
+std::vector<std::pair<int, int>> core_pairs(const Packing& p, double distance) {
+  return pairs_within(p, [&](const Grain& a, const Grain& b) { return 0.5 * (a.diameter + b.diameter) + distance; });
+}
+
+int separate_colours_within(Packing& p, double distance) {
+  const auto near = core_pairs(p, distance);
+  int clashes = 0;
+  for (auto [i, j] : near) clashes += p.grains[i].colour == p.grains[j].colour;
+  if (clashes == 0) return 0;
+  auto pairs = contact_pairs(p);
+  pairs.insert(pairs.end(), near.begin(), near.end());
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  p.stats.colours = colour_grains(p, pairs);
+  return clashes;
 }
 
 int colour_grains(Packing& p) { return colour_grains(p, contact_pairs(p)); }

@@ -15,4 +15,13 @@ int colour_grains(Packing& p);
 // Pairs of grains (i < j) whose coats come within p.contact_gap: the edges the colouring respects.
 std::vector<std::pair<int, int>> contact_pairs(const Packing& p);
 
+// Pairs of grains (i < j) whose TATB cores (coats left out) come within `distance`.
+std::vector<std::pair<int, int>> core_pairs(const Packing& p, double distance);
+
+// Makes the colours also separate grains whose cores come within `distance` (the grid's reach:
+// such grains share nodes). Keeps the packing's colours when they already do; otherwise colours
+// again over the union of contact_pairs(p) and core_pairs(p, distance). Returns the number of
+// same-colour pairs that were within `distance` (0: colours kept).
+int separate_colours_within(Packing& p, double distance);
+
 }  // namespace pbx
