@@ -106,7 +106,7 @@ TEST(Packing, PorosityMassRatioAndCoatsAreAsSpecified) {
   for (const auto& g : p.grains) tatb += 0.25 * std::numbers::pi * g.diameter * g.diameter;
   EXPECT_NEAR(s.tatb_area_fraction, tatb / p.box.prod(), 1e-9);
   // Proportional coats: one thickness-to-diameter ratio, at least the no-overlap value
-  // (sqrt(1 + beta) - 1)/2 = 0.01236 because overlapping coats hide some binder.
+  // (sqrt(1 + beta) - 1)/2 = 0.012443 because overlapping coats hide some binder.
   const double ratio = p.grains[0].coat / p.grains[0].diameter;
   for (const auto& g : p.grains) EXPECT_NEAR(g.coat / g.diameter, ratio, 1e-12);
   const double beta = (5.0 / 95.0) * (1934.0 / 2020.0);
