@@ -246,8 +246,13 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   std::string specimen = "null";
   if (sc_.die) {
     const double box = sc_.die->width * sc_.die->height;
-    specimen = fmt::format(R"({{"density_kg_m3": {:.8g}, "porosity": {:.8g}, "tmd_kg_m3": {:.8g}, "width_m": {:.8g}, "height_m": {:.8g}}})",
-                           mass / box, 1.0 - vol / box, mass / vol, sc_.die->width, sc_.die->height);
+    // porosity and density of the particles; packing_porosity: of the packed geometry they rasterise
+    const std::string packed =
+        sc_.packing_stats ? fmt::format(R"(, "packing_porosity": {:.8g}, "colours": {})", sc_.packing_stats->porosity,
+                                        sc_.packing_stats->colours)
+                          : std::string();
+    specimen = fmt::format(R"({{"density_kg_m3": {:.8g}, "porosity": {:.8g}, "tmd_kg_m3": {:.8g}, "width_m": {:.8g}, "height_m": {:.8g}{}}})",
+                           mass / box, 1.0 - vol / box, mass / vol, sc_.die->width, sc_.die->height, packed);
   }
   std::string mats;
   for (std::size_t m = 0; m < sc_.materials.size(); ++m)
