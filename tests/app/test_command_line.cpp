@@ -15,6 +15,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "../engine/block_deck.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -136,29 +138,7 @@ TEST_F(CommandLine, PackReadsARunDeckAndChecksItsOutputFolderFirst) {
 // there (the output folder was "", so nothing was written at all), and ends with the history of an
 // uninterrupted run; a fresh run into that folder removes the old checkpoint.
 TEST_F(CommandLine, RestartFromABareCheckpointNameWritesBesideIt) {
-  const std::string deck = fmt::format(R"([run]
-end_strain = 0.002
-history_points = 20
-snapshots = 0
-[grid]
-cell_size = "20 um"
-[solver]
-mass_scaling = 100
-[die]
-width = "0.08 mm"
-height = "0.2 mm"
-punch_velocity = "0.3 m/s"
-ramp_strain = 0.0005
-[materials.block]
-model = "linear_elastic"
-density = "1.934 g/cm3"
-bulk_modulus = "10.59 GPa"
-shear_modulus = "11.5 GPa"
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.08 mm", "0.2 mm"]
-material = "block"
-)");
+  const std::string deck = pbx::test::block_deck(100, 0.006);  // the engine tests' die column, to 0.6 % strain
   const std::string d = write("block.toml", deck);
   const fs::path whole = dir / "whole", part = dir / "part";
   ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q", d, whole.string())).code, 0);
