@@ -1,6 +1,8 @@
 // Segmented-image import: phase areas, grains as connected components, colouring.
 #include <filesystem>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -43,7 +45,7 @@ std::string make_image(const std::filesystem::path& dir, long& tatb_px, long& bi
 }  // namespace
 
 TEST(ImageImport, PhaseFractionsGrainsAndColours) {
-  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_image";
+  const auto dir = std::filesystem::temp_directory_path() / ("pbx_test_image_" + std::to_string(::getpid()));
   long tatb = 0, binder = 0;
   const std::string file = make_image(dir, tatb, binder);
   Deck d = Deck::from_string(
@@ -72,7 +74,7 @@ TEST(ImageImport, PhaseFractionsGrainsAndColours) {
 }
 
 TEST(ImageImport, ColourNotInLegendIsAnInputError) {
-  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_image2";
+  const auto dir = std::filesystem::temp_directory_path() / ("pbx_test_image2_" + std::to_string(::getpid()));
   long t = 0, b = 0;
   const std::string file = make_image(dir, t, b);
   Deck d = Deck::from_string("[packing]\npixel_size = \"2 um\"\n[packing.legend]\ntatb = \"#FF0000\"\n", "img.toml");
@@ -86,7 +88,7 @@ TEST(ImageImport, ColourNotInLegendIsAnInputError) {
 // pixels (a unit slip) would make the colouring search run for hours: both are input errors.
 // The legend table is optional.
 TEST(ImageImport, NoTatbOrAHugeContactGapIsAnInputError) {
-  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_image3";
+  const auto dir = std::filesystem::temp_directory_path() / ("pbx_test_image3_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   RgbImage white;
   white.width = 10;

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -151,7 +153,7 @@ TEST(Packing, ColoursAreSeparatedOverTheGridsReach) {
 }
 
 TEST(Packing, SameSeedGivesByteIdenticalFilesAndReadsBack) {
-  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_packing";
+  const auto dir = std::filesystem::temp_directory_path() / ("pbx_test_packing_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   write_packing(paper_packing(), (dir / "a").string());
   write_packing(generate_packing(spec_from(kDeck)), (dir / "b").string());
@@ -211,7 +213,7 @@ TEST(Packing, BadDecksNameTheKey) {
 // A packing folder edited by hand (or corrupted) is read strictly: a cell that is not wholly a
 // number, or a grain centre outside the box, is an error naming the file and line or grain.
 TEST(Packing, EditedPackingFileIsReadStrictly) {
-  const auto dir = std::filesystem::temp_directory_path() / "pbx_test_packing_edit";
+  const auto dir = std::filesystem::temp_directory_path() / ("pbx_test_packing_edit_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   write_packing(paper_packing(), dir.string());
   const std::string csv = slurp(dir / "packing.csv");
