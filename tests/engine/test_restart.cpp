@@ -73,5 +73,24 @@ TEST(Restart, RestartedRunEqualsUninterruptedRun) {
       EXPECT_NE(std::string(e.what()).find("columns"), std::string::npos) << e.what();
     }
   }
+  // The same particle count with other masses (here another density; in practice a re-packed
+  // specimen) is refused: the checkpoint's particles would be resumed with the wrong grains.
+  {
+    fs::create_directories(dir / "d");
+    fs::copy_file(dir / "a" / "history.csv", dir / "d" / "history.csv");
+    std::string text = c.deck_text;
+    text.replace(text.find("\"1.934 g/cm3\""), 13, "\"1.900 g/cm3\"");
+    Scene<2> sc = test::scene_from(text);
+    RunOptions od = o;
+    od.out_dir = (dir / "d").string();
+    od.checkpoint_every = 0;
+    Runner<2> r(sc, od, true);
+    try {
+      r.resume(c);
+      FAIL() << "a checkpoint of other particles must not be resumed";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("differ from the deck's at the same count"), std::string::npos) << e.what();
+    }
+  }
   fs::remove_all(dir);
 }
