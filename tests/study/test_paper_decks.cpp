@@ -41,6 +41,7 @@ TEST(PaperDecks, QuickStudyRunsAreValidDecks) { build_every_run("quick.toml"); }
 TEST(PaperDecks, SensitivityStudyRunsAreValidDecks) { build_every_run("sensitivity.toml"); }
 TEST(PaperDecks, ContactDetectionStudyRunsAreValidDecks) { build_every_run("contact_detection.toml"); }
 TEST(PaperDecks, QuickLayerStudyRunsAreValidDecks) { build_every_run("quick_layer.toml"); }
+TEST(PaperDecks, LayerResolutionStudyRunsAreValidDecks) { build_every_run("layer_resolution.toml"); }
 
 TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {
   const StudySpec quick = read_study(kPaper + "quick.toml");
