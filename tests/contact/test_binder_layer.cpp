@@ -33,18 +33,17 @@ using namespace pbx;
 namespace {
 constexpr double K = 10.59e9, G = 11.5e9, M = K + 4 * G / 3, H = 0.48e-3;
 
-// The die column of the engine tests (tests/engine/block_deck.hpp) cut into two slabs on two
-// fields at height lower_height_um, joined by the law.
-std::string column_deck(double lower_height_um, double dn, double dt) {
-  const std::string block = test::block_deck(100, 0.03);
-  return block.substr(0, block.find("[[geometry]]")) + fmt::format(R"([[geometry]]
+// Two slabs of material "block" on fields "lower" and "upper", width w_mm, meeting at y0_um (from
+// the bottom y = 0 to the top y1_mm), joined by the law with stiffnesses dn, dt (Pa/m).
+std::string two_slabs(double w_mm, double y0_um, double y1_mm, double dn, double dt) {
+  return fmt::format(R"([[geometry]]
 min = ["0 mm", "0 mm"]
-max = ["0.04 mm", "{0} um"]
+max = ["{0} mm", "{1} um"]
 material = "block"
 field = "lower"
 [[geometry]]
-min = ["0 mm", "{0} um"]
-max = ["0.04 mm", "0.48 mm"]
+min = ["0 mm", "{1} um"]
+max = ["{0} mm", "{2} mm"]
 material = "block"
 field = "upper"
 [contact]
@@ -53,10 +52,17 @@ default = "frictionless"
 materials = ["block", "block"]
 law = "binder_layer"
 friction = 0.0
-normal_stiffness = {1}
-shear_stiffness = {2}
+normal_stiffness = {3}
+shear_stiffness = {4}
 )",
-                                                                     lower_height_um, dn, dt);
+                     w_mm, y0_um, y1_mm, dn, dt);
+}
+
+// The die column of the engine tests (tests/engine/block_deck.hpp) cut into two slabs on two
+// fields at height lower_height_um, joined by the law.
+std::string column_deck(double lower_height_um, double dn, double dt) {
+  const std::string block = test::block_deck(100, 0.03);
+  return block.substr(0, block.find("[[geometry]]")) + two_slabs(0.04, lower_height_um, 0.48, dn, dt);
 }
 
 struct Row {
@@ -217,25 +223,7 @@ model = "linear_elastic"
 density = "1.934 g/cm3"
 bulk_modulus = "10.59 GPa"
 shear_modulus = "11.5 GPa"
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.1 mm", "0.1 mm"]
-material = "block"
-field = "lower"
-[[geometry]]
-min = ["0 mm", "0.1 mm"]
-max = ["0.1 mm", "0.2 mm"]
-material = "block"
-field = "upper"
-[contact]
-default = "frictionless"
-[[contact.pair]]
-materials = ["block", "block"]
-law = "binder_layer"
-friction = 0.0
-normal_stiffness = 1e12
-shear_stiffness = 3e11
-)";
+)" + two_slabs(0.1, 100, 0.2, 1e12, 3e11);
   Scene<2> sc = test::scene_from(deck);
   ASSERT_TRUE(sc.bodies.empty());
   Runner<2> r(sc, test::quiet());
