@@ -108,6 +108,12 @@ struct Mpi {
 // Simulated to the end (run.json says so). Not also "analysed": a finished run whose analysis
 // failed or is missing is re-analysed with the finished runs, never simulated again (hours at
 // 2.5 um cells); the report names a run whose analysis.json is still missing.
+// A deck whose [specimen] is packed from a seed (not read from specimen.packing_dir).
+bool seeds_its_specimen(const toml::table& deck) {
+  const toml::table* spec = deck["specimen"].as_table();
+  return spec && !spec->contains("packing_dir");
+}
+
 bool finished(const fs::path& dir) {
   std::ifstream f(dir / "run.json");
   if (!f) return false;
@@ -235,7 +241,7 @@ StudySpec read_study(const std::string& file) {
   try {
     const toml::table base = toml::parse(s.base_text, s.base_deck);
     base_has_specimen = base.contains("specimen");
-    reads_packing = base_has_specimen && base["specimen"].as_table() && base["specimen"].as_table()->contains("packing_dir");
+    reads_packing = base_has_specimen && !seeds_its_specimen(base);
   } catch (const toml::parse_error&) {
   }
   for (const auto& r : s.runs)
@@ -266,9 +272,7 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
   }
   for (const auto& [key, text] : r.set) {
     // no packed specimen, or one read from a packing_dir (the last set, after every override): no seed
-    if (key == "specimen.seed" &&
-        (!base.contains("specimen") || !base["specimen"].as_table() || base["specimen"].as_table()->contains("packing_dir")))
-      continue;
+    if (key == "specimen.seed" && !seeds_its_specimen(base)) continue;
     // dotted key: walk/create tables, then parse the value text as TOML
     toml::table* t = &base;
     std::size_t start = 0, dot;
