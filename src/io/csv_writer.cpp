@@ -1,5 +1,7 @@
 #include "io/csv_writer.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -9,12 +11,16 @@
 namespace pbx {
 
 CsvWriter::CsvWriter(const std::string& file, const std::vector<std::string>& columns, bool append)
-    : ncol_(columns.size()) {
+    : ncol_(columns.size()), file_(file) {
   f_ = std::fopen(file.c_str(), append ? "a" : "w");
   if (!f_) throw InputError(fmt::format("cannot write '{}'", file));
   if (!append) {
-    std::fprintf(f_, "%s\n", header(columns).c_str());
-    std::fflush(f_);
+    if (std::fprintf(f_, "%s\n", header(columns).c_str()) < 0 || std::fflush(f_) != 0) {
+      const int err = errno;
+      std::fclose(f_);  // a throwing constructor runs no destructor
+      f_ = nullptr;
+      throw InputError(fmt::format("cannot write '{}': {}", file, std::strerror(err)));
+    }
   }
 }
 
@@ -29,6 +35,7 @@ CsvWriter& CsvWriter::operator=(CsvWriter&& o) noexcept {
     if (f_) std::fclose(f_);
     f_ = o.f_;
     ncol_ = o.ncol_;
+    file_ = std::move(o.file_);
     o.f_ = nullptr;
   }
   return *this;
@@ -43,8 +50,8 @@ void CsvWriter::row(const std::vector<double>& values) {
     throw std::logic_error(fmt::format("history row with {} values for {} columns", values.size(), ncol_));
   std::string line;
   for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format("{}{:.10g}", i ? "," : "", values[i]);
-  std::fprintf(f_, "%s\n", line.c_str());
-  std::fflush(f_);
+  if (std::fprintf(f_, "%s\n", line.c_str()) < 0 || std::fflush(f_) != 0)
+    throw InputError(fmt::format("cannot write a row to '{}': {}", file_, std::strerror(errno)));
 }
 
 }  // namespace pbx

@@ -12,22 +12,27 @@
 namespace pbx {
 
 namespace {
-void write_dataset(hid_t file, const char* name, hid_t type, const void* data, std::size_t rows, std::size_t cols,
-                   const char* units) {
+// Every HDF5 call is checked: a snapshot that could not be written (disk full, quota) stops the
+// run with a message naming the file and the dataset, instead of leaving a file ParaView cannot read.
+void write_dataset(hid_t file, const std::string& path, const char* name, hid_t type, const void* data,
+                   std::size_t rows, std::size_t cols, const char* units) {
   hsize_t dims[2] = {rows, cols};
   hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
-  hid_t ds = H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  if (rows > 0) H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
-  hid_t aspace = H5Screate(H5S_SCALAR);
-  hid_t atype = H5Tcopy(H5T_C_S1);
-  H5Tset_size(atype, std::strlen(units) + 1);
-  hid_t attr = H5Acreate2(ds, "units", atype, aspace, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(attr, atype, units);
-  H5Aclose(attr);
-  H5Tclose(atype);
-  H5Sclose(aspace);
-  H5Dclose(ds);
-  H5Sclose(space);
+  hid_t ds = space < 0 ? -1 : H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  bool ok = ds >= 0 && (rows == 0 || H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
+  if (ok) {
+    hid_t aspace = H5Screate(H5S_SCALAR);
+    hid_t atype = H5Tcopy(H5T_C_S1);
+    H5Tset_size(atype, std::strlen(units) + 1);
+    hid_t attr = H5Acreate2(ds, "units", atype, aspace, H5P_DEFAULT, H5P_DEFAULT);
+    ok = attr >= 0 && H5Awrite(attr, atype, units) >= 0;
+    if (attr >= 0) H5Aclose(attr);
+    H5Tclose(atype);
+    H5Sclose(aspace);
+  }
+  if (ds >= 0) ok = H5Dclose(ds) >= 0 && ok;
+  if (space >= 0) H5Sclose(space);
+  if (!ok) throw InputError(fmt::format("cannot write snapshot '{}': writing dataset '{}' failed", path, name));
 }
 }  // namespace
 
@@ -40,27 +45,37 @@ void SnapshotWriter::write(const SnapshotData& s) {
   hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f < 0) throw InputError(fmt::format("cannot write snapshot '{}'", path));
   const std::size_t n = s.count;
-  write_dataset(f, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
-  write_dataset(f, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
-  write_dataset(f, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
-  write_dataset(f, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
-  write_dataset(f, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
-  write_dataset(f, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");
-  write_dataset(f, "volume", H5T_NATIVE_DOUBLE, s.volume.data(), n, 1, s.dim == 2 ? "m^2 per m of depth" : "m^3");
-  write_dataset(f, "material", H5T_NATIVE_INT, s.material.data(), n, 1, "index into run.json materials");
-  write_dataset(f, "field", H5T_NATIVE_INT, s.field.data(), n, 1, "contact field index");
-  hid_t aspace = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(attr, H5T_NATIVE_DOUBLE, &s.time);
-  H5Aclose(attr);
-  H5Sclose(aspace);
-  H5Fclose(f);
+  try {
+    write_dataset(f, path, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
+    write_dataset(f, path, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
+    write_dataset(f, path, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
+    write_dataset(f, path, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
+    write_dataset(f, path, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
+    write_dataset(f, path, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");
+    write_dataset(f, path, "volume", H5T_NATIVE_DOUBLE, s.volume.data(), n, 1, s.dim == 2 ? "m^2 per m of depth" : "m^3");
+    write_dataset(f, path, "material", H5T_NATIVE_INT, s.material.data(), n, 1, "index into run.json materials");
+    write_dataset(f, path, "field", H5T_NATIVE_INT, s.field.data(), n, 1, "contact field index");
+    hid_t aspace = H5Screate(H5S_SCALAR);
+    hid_t attr = H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
+    const bool ok = attr >= 0 && H5Awrite(attr, H5T_NATIVE_DOUBLE, &s.time) >= 0;
+    if (attr >= 0) H5Aclose(attr);
+    H5Sclose(aspace);
+    if (!ok) throw InputError(fmt::format("cannot write snapshot '{}': writing attribute 'time_s' failed", path));
+  } catch (...) {
+    H5Fclose(f);
+    throw;
+  }
+  // the data reach the disk at close: its failure is the snapshot's failure
+  if (H5Fclose(f) < 0) throw InputError(fmt::format("cannot write snapshot '{}': closing the file failed", path));
   entries_.push_back({name, s.time, n});
   write_xdmf();
 }
 
 void SnapshotWriter::write_xdmf() const {
-  std::ofstream x(std::filesystem::path(dir_) / "snapshots.xmf");
+  // under a temporary name, then renamed: a run killed mid-write keeps the previous sidecar
+  const auto file = std::filesystem::path(dir_) / "snapshots.xmf";
+  const auto tmp = std::filesystem::path(dir_) / "snapshots.xmf.tmp";
+  std::ofstream x(tmp);
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
        "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& e : entries_) {
@@ -86,6 +101,9 @@ void SnapshotWriter::write_xdmf() const {
     x << "</Grid>\n";
   }
   x << "</Grid>\n</Domain>\n</Xdmf>\n";
+  x.close();
+  if (!x) throw InputError(fmt::format("cannot write '{}'", tmp.string()));
+  std::filesystem::rename(tmp, file);
 }
 
 }  // namespace pbx

@@ -65,7 +65,7 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
     }
   }
   if (!opt_.out_dir.empty()) {
-    std::filesystem::create_directories(opt_.out_dir);
+    lock_ = OutputLock(opt_.out_dir, "run");
     if (!restart) {
       history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
       // A checkpoint left in a reused folder by an earlier run would, on a later --restart, cut this
@@ -496,7 +496,15 @@ void Runner<D>::resume(const CheckpointData& c) {
       throw InputError(fmt::format("restart: the columns of '{}' differ from the ones this version writes "
                                    "(the checkpoint comes from another code version); rerun from the start",
                                    file));
-    std::ofstream(file) << kept;
+    // the kept rows go to a temporary name, then replace the file: a run killed here keeps the
+    // history it had (which the checkpoint's restart cuts again), never a half-written one
+    {
+      std::ofstream tmp(file + ".tmp");
+      tmp << kept;
+      tmp.close();
+      if (!tmp) throw InputError(fmt::format("restart: cannot write '{}.tmp'", file));
+    }
+    std::filesystem::rename(file + ".tmp", file);
     history_ = CsvWriter(file, columns_, true);
   }
   resumed_ = true;

@@ -11,6 +11,7 @@
 #include "contact/field_overlap.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
+#include "io/output_lock.hpp"
 #include "io/snapshot.hpp"
 #include "solver/solver.hpp"
 #include "solver/thread_count.hpp"
@@ -83,6 +84,7 @@ class Runner {
   Scene<D>& sc_;
   RunOptions opt_;
   Solver<D> solver_;
+  OutputLock lock_;  // before the files it guards: released after they are closed
   CsvWriter history_;
   SnapshotWriter snapshots_;
   std::vector<std::string> columns_;

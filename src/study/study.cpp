@@ -20,6 +20,7 @@
 #include "analysis/study_report.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
+#include "io/output_lock.hpp"
 #include "io/deck.hpp"
 #include "solver/runner.hpp"
 
@@ -321,6 +322,19 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     }
     selected[i] = true;
   }
+  // One study process per folder: a second one would rewrite study.json, move checkpoints aside and
+  // run the same runs. Rank 0 holds the lock for the whole job; every rank stops if it cannot.
+  OutputLock lock;
+  int locked_out = 0;
+  if (mpi.rank == 0) {
+    try {
+      lock = OutputLock(out, "study");
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "pbxmpm study: %s\n", e.what());
+      locked_out = 1;
+    }
+  }
+  if (mpi.sum(locked_out) > 0) return 1;
   fs::create_directories(out / "runs");
   // study.json first, so a report can name what is missing from an interrupted study
   if (mpi.rank == 0) {

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "../engine/block_deck.hpp"
+#include "io/output_lock.hpp"
 
 namespace fs = std::filesystem;
 
@@ -157,4 +158,21 @@ TEST_F(CommandLine, RestartFromABareCheckpointNameWritesBesideIt) {
   EXPECT_NE(slurp(part / "run.json").find("\"restarts\": 1"), std::string::npos) << slurp(part / "run.json");
   ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q", d, part.string())).code, 0);
   EXPECT_FALSE(fs::exists(part / "checkpoint.h5")) << "a fresh run kept the earlier run's checkpoint";
+}
+
+// A run or a study into a folder another pbxmpm process is writing is refused before it writes
+// anything; this test holds the folder's lock as that other process would.
+TEST_F(CommandLine, AFolderAnotherProcessWritesIsRefused) {
+  const std::string deck = write("block.toml", pbx::test::block_deck(100, 0.005));
+  const fs::path busy = dir / "busy";
+  {
+    pbx::OutputLock held(busy, "run");
+    expect_refused(fmt::format("run {} --out {} -q", deck, busy.string()),
+                   fmt::format("another pbxmpm process (pid {}) is writing to '{}'", ::getpid(), busy.string()));
+    EXPECT_FALSE(fs::exists(busy / "history.csv")) << "the refused run wrote into the folder";
+    const std::string study = (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "quick.toml").string();
+    expect_refused(fmt::format("study {} --out {}", study, busy.string()), "give this study another output folder");
+    EXPECT_FALSE(fs::exists(busy / "study.json")) << "the refused study wrote into the folder";
+  }
+  EXPECT_EQ(pbxmpm(fmt::format("run {} --out {} -q", deck, busy.string())).code, 0);
 }
