@@ -136,11 +136,12 @@ AnalysisOptions analysis_options(const AnalyzeArgs& a) {
 
 // A study directory's analysis.toml (its deck's [analysis] table) is the default options file of
 // `fit study` and `report`, so they read the runs the way the study did.
-AnalyzeArgs with_study_options(AnalyzeArgs a) {
+// quiet: the options are not used to analyse (report --reuse-analysis), so no line says they are.
+AnalyzeArgs with_study_options(AnalyzeArgs a, bool quiet = false) {
   const std::string file = a.dir + "/analysis.toml";
   if (a.options_file.empty() && std::filesystem::exists(file)) {
     a.options_file = file;
-    fmt::print(stderr, "pbxmpm: analysis options from {} (the study deck's [analysis] table)\n", file);
+    if (!quiet) fmt::print(stderr, "pbxmpm: analysis options from {} (the study deck's [analysis] table)\n", file);
   }
   return a;
 }
@@ -379,7 +380,25 @@ void register_analysis(CLI::App& app) {
   add_study_flags(rep, *rsa);
   rep->callback([ra, ro, rsa] {
     apply_study_flags(*rsa, ro->fits);
-    ro->fits.analysis = analysis_options(with_study_options(*ra));
+    if (ro->fits.reuse_analysis) {
+      // the runs' analysis.json files are used as they are: analysis flags would be ignored
+      const AnalyzeArgs& a = *ra;
+      for (const auto& [flag, given] : {std::pair<const char*, bool>{"--window", !a.window.empty()},
+                                        {"--plateau", !a.plateau.empty()},
+                                        {"--strength-strain", !a.strength_strain.empty()},
+                                        {"--window-signal", !a.window_signal.empty()},
+                                        {"--window-tolerance", !a.tolerance.empty()},
+                                        {"--ke-ie-limit", !a.ke_ie.empty()},
+                                        {"--options", !a.options_file.empty()},
+                                        {"--allow-unfinished", a.allow_unfinished}})
+        if (given)
+          throw InputError(fmt::format("report: {} changes the analysis, but --reuse-analysis uses the runs' "
+                                       "analysis.json as they are; drop one of the two",
+                                       flag));
+      ro->fits.analysis = analysis_options(with_study_options(*ra, true));
+    } else {
+      ro->fits.analysis = analysis_options(with_study_options(*ra));
+    }
     const std::string out = build_report(ra->dir, *ro);
     fmt::print("report written to {}/report.html (and report.md)\n", out);
   });

@@ -51,6 +51,12 @@ void register_run(CLI::App& app) {
     CheckpointData ck;
     std::string deck_name = args->deck;
     if (!args->restart.empty()) {
+      // the checkpoint carries its deck: a deck given beside it would be ignored, and an edited one
+      // taken for the one in effect
+      if (!args->deck.empty())
+        throw InputError(fmt::format("pbxmpm run: give a deck or --restart CHECKPOINT, not both (the run continues "
+                                     "with the deck saved in '{}')",
+                                     args->restart));
       ck = read_checkpoint(args->restart);
       // relative paths in the deck (specimen.packing_dir) resolve against the original deck's folder
       deck = Deck::from_string(ck.deck_text, ck.deck_name, std::filesystem::path(ck.deck_name).parent_path().string());

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
@@ -38,6 +39,10 @@ void register_study(CLI::App& app) {
   st->callback([a] {
     StudySpec s = read_study(a->deck);
     StudyOptions o;
+    if (a->out.empty() && !is_folder_name(s.name))
+      throw InputError(fmt::format("study.name '{}' would name the default output folder out/<name>: give --out, or "
+                                   "a name of letters, digits, '_', '-' and '.'",
+                                   s.name));
     o.out_dir = a->out.empty() ? "out/" + s.name : a->out;
     o.threads = a->threads;
     o.report = !a->no_report;
@@ -45,6 +50,7 @@ void register_study(CLI::App& app) {
     o.only = a->only;
     o.checkpoint_every = a->checkpoint_every;
     const int failed = run_study(s, o);
+    if (failed == kStudyNotStarted) throw InputError("the study did not start (no run was made): see the messages above");
     if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
   });
 

@@ -39,10 +39,16 @@ ThreadChoice choose_threads(int requested, std::size_t particles, bool omp_env, 
 }
 
 ThreadChoice choose_threads(int requested, std::size_t particles) {
+  // ranks on this machine: Open MPI's count, else MPICH's (Hydra), else one
   int local = 1;
-  if (const char* s = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) {
+  for (const char* name : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"}) {
+    const char* s = std::getenv(name);
+    if (!s) continue;
     const auto v = parse_finite(s);
-    if (v && *v >= 1 && *v <= 1e6 && std::floor(*v) == *v) local = static_cast<int>(*v);
+    if (v && *v >= 1 && *v <= 1e6 && std::floor(*v) == *v) {
+      local = static_cast<int>(*v);
+      break;
+    }
   }
   // OMP_NUM_THREADS is read here, not through omp_get_max_threads(), which an earlier run of this
   // process (a study, a test binary) has changed with omp_set_num_threads; its first entry counts

@@ -25,7 +25,7 @@ struct ThreadChoice {
 ThreadChoice choose_threads(int requested, std::size_t particles, bool omp_env, int omp_default, int procs,
                             int local_ranks);
 
-// The same with the environment read (OMP_NUM_THREADS, OMPI_COMM_WORLD_LOCAL_SIZE, the core count).
+// The same with the environment read (OMP_NUM_THREADS, OMPI_COMM_WORLD_LOCAL_SIZE or MPI_LOCALNRANKS, the core count).
 ThreadChoice choose_threads(int requested, std::size_t particles);
 
 }  // namespace pbx

@@ -28,6 +28,13 @@ namespace pbx {
 
 namespace fs = std::filesystem;
 
+bool is_folder_name(const std::string& name) {
+  bool ok = !name.empty() && name.front() != '.' && name.front() != '-';
+  for (char c : name) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.');
+  return ok;
+}
+
+
 namespace {
 
 std::string node_text(const toml::node& n) {
@@ -57,6 +64,15 @@ std::string label_of(const std::string& value_text) {
     if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-') out += c;
   return out.empty() ? "v" : out;
 }
+
+// A group name becomes part of its runs' folder names (runs/<group>-<value>-s<seed>): a '/' or
+// '..' would put runs in nested folders or outside runs/.
+void check_folder_name(const DeckTable& t, const std::string& key, const std::string& name) {
+  if (!is_folder_name(name))
+    t.fail(key, fmt::format("'{}' names a folder: use letters, digits, '_', '-' and '.' (not first)", name));
+}
+
+bool is_seed_key(const std::string& k) { return k == "specimen.seed" || k == "packing.seed"; }
 
 struct Mpi {
   int rank = 0, size = 1;
@@ -180,11 +196,13 @@ StudySpec read_study(const std::string& file) {
   }
   common = overrides_of(tree["study"]["set"].as_table());
   const auto groups = st.tables("group");
+  std::vector<std::size_t> own_seed_group;  // per run: its group if that group gives the seed itself, else groups.size()
   if (groups.empty()) st.fail("group", "at least one [[study.group]] is required");
   const toml::array* garr = tree["study"]["group"].as_array();
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
     const DeckTable& g = groups[gi];
     const std::string gname = g.string("name");
+    check_folder_name(g, "name", gname);
     const std::string key = g.string("key");
     const toml::table& gt = *garr->get(gi)->as_table();
     const toml::array* values = gt["values"].as_array();
@@ -196,7 +214,7 @@ StudySpec read_study(const std::string& file) {
     // A group whose key or overrides give the specimen's seed must keep it: the study's own seed
     // would overwrite it (and specimen.seed wins over packing.seed in a run deck), so every run
     // would share one seed. Such a group takes one study seed, and its runs record the seed used.
-    auto is_seed = [](const std::string& k) { return k == "specimen.seed" || k == "packing.seed"; };
+    const auto is_seed = is_seed_key;
     std::optional<std::string> set_seed;  // the seed text a [set] gives (group set over study set)
     for (const auto& kv : common)
       if (is_seed(kv.first)) set_seed = kv.second;
@@ -216,11 +234,17 @@ StudySpec read_study(const std::string& file) {
         r.seed = seed;
         if (own_seed) {  // the seed the run really uses
           const std::string& used = is_seed(key) ? text : *set_seed;
+          // the whole text must be a non-negative integer: std::stol("2.5") is 2, a run would use
+          // another seed than the one its study.json records
+          std::size_t used_chars = 0;
+          long v = -1;
           try {
-            r.seed = std::stol(used);
+            v = std::stol(used, &used_chars);
           } catch (const std::exception&) {
-            g.fail(is_seed(key) ? "values" : "set", fmt::format("seed '{}' is not an integer", used));
           }
+          if (used_chars != used.size() || v < 0)
+            g.fail(is_seed(key) ? "values" : "set", fmt::format("seed '{}' is not a non-negative integer", used));
+          r.seed = v;
         }
         r.id = fmt::format("{}-{}-s{}", gname, label_of(text), r.seed);
         for (const auto& other : s.runs)
@@ -234,6 +258,7 @@ StudySpec read_study(const std::string& file) {
         // specimen.seed decides in a run deck: it carries the study's seed, or the group's own
         r.set.emplace_back("specimen.seed", std::to_string(r.seed));
         s.runs.push_back(std::move(r));
+        own_seed_group.push_back(own_seed ? gi : groups.size());
       }
     }
   }
@@ -245,11 +270,24 @@ StudySpec read_study(const std::string& file) {
     reads_packing = base_has_specimen && !seeds_its_specimen(base);
   } catch (const toml::parse_error&) {
   }
-  for (const auto& r : s.runs)
-    for (const auto& kv : r.set) {
-      if (kv.first != "specimen.seed") base_has_specimen = base_has_specimen || kv.first.rfind("specimen.", 0) == 0;
-      reads_packing = reads_packing || kv.first == "specimen.packing_dir";
+  const bool base_specimen = base_has_specimen, base_reads = reads_packing;
+  for (std::size_t i = 0; i < s.runs.size(); ++i) {
+    bool has_specimen = base_specimen, reads = base_reads;  // this run's
+    for (const auto& kv : s.runs[i].set) {
+      if (kv.first != "specimen.seed") has_specimen = has_specimen || kv.first.rfind("specimen.", 0) == 0;
+      reads = reads || kv.first == "specimen.packing_dir";
     }
+    base_has_specimen = base_has_specimen || has_specimen;
+    reads_packing = reads_packing || reads;
+    // a group that gives the seed itself, on a specimen no seed reaches: its runs would be one run
+    // under several names (the seed is dropped from decks whose specimen is not generated)
+    if (own_seed_group[i] < groups.size() && (!has_specimen || reads))
+      groups[own_seed_group[i]].fail(
+          is_seed_key(groups[own_seed_group[i]].string("key")) ? "key" : "set", fmt::format("group '{}' gives the specimen's seed, but {}: every seed would give the same run",
+                             s.runs[i].group,
+                             reads ? "the specimen is read from specimen.packing_dir, not generated"
+                                   : "the base deck has no [specimen] (no packed microstructure)"));
+  }
   if (seeds.size() > 1 && !base_has_specimen)
     st.fail("seeds", "the base deck has no [specimen] (no packed microstructure): every seed would give the same run");
   if (seeds.size() > 1 && reads_packing)
@@ -298,6 +336,41 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
   return ss.str();
 }
 
+// study.json (first, so a report can name what is missing from an interrupted study) and the
+// [analysis] table beside the runs (so that a later `pbxmpm report DIR` analyses them the same way;
+// removed when the study deck no longer has one).
+static void write_study_files(const StudySpec& s, const fs::path& out) {
+  {
+    std::ofstream f(out / "study.json");
+    // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
+    f << "{\n  \"name\": " << json_quote(s.name) << ",\n  \"base\": " << json_quote(s.base_deck) << ",\n  \"runs\": [\n";
+    for (std::size_t i = 0; i < s.runs.size(); ++i) {
+      const auto& r = s.runs[i];
+      f << fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),
+                       json_quote("runs/" + r.id), json_quote(r.group), json_quote(r.value_label), r.seed,
+                       i + 1 < s.runs.size() ? "," : "");
+    }
+    f << "  ]\n}\n";
+    f.close();
+    if (!f) throw InputError(fmt::format("cannot write '{}'", (out / "study.json").string()));
+  }
+  if (s.analysis_text.empty()) {
+    fs::remove(out / "analysis.toml");
+  } else {
+    std::ofstream f(out / "analysis.toml");
+    f << "# the study deck's [analysis] table, written by pbxmpm study\n" << s.analysis_text;
+    f.close();
+    if (!f) throw InputError(fmt::format("cannot write '{}'", (out / "analysis.toml").string()));
+  }
+}
+
+// A run's deck, read from the text the study generated for it (runs/<id>/deck.toml). Its relative
+// paths (specimen.packing_dir) resolve against the base deck's folder, where they were written:
+// the run's folder or the current one would find nothing.
+static Deck run_deck(const StudySpec& s, const std::string& text, const fs::path& file) {
+  return Deck::from_string(text, file.string(), fs::path(s.base_deck).parent_path().string());
+}
+
 std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size, int rank) {
   std::vector<std::size_t> mine;
   int k = 0;
@@ -324,39 +397,21 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   }
   // One study process per folder: a second one would rewrite study.json, move checkpoints aside and
   // run the same runs. Rank 0 holds the lock for the whole job; every rank stops if it cannot.
+  // Everything rank 0 alone does here is caught: a throw on one rank would leave the others waiting
+  // in the collective below for ever.
   OutputLock lock;
-  int locked_out = 0;
+  int setup_failed = 0;
   if (mpi.rank == 0) {
     try {
       lock = OutputLock(out, "study");
-    } catch (const InputError& e) {
+      fs::create_directories(out / "runs");
+      write_study_files(s, out);
+    } catch (const std::exception& e) {
       std::fprintf(stderr, "pbxmpm study: %s\n", e.what());
-      locked_out = 1;
+      setup_failed = 1;
     }
   }
-  if (mpi.sum(locked_out) > 0) return 1;
-  fs::create_directories(out / "runs");
-  // study.json first, so a report can name what is missing from an interrupted study
-  if (mpi.rank == 0) {
-    std::ofstream f(out / "study.json");
-    // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
-    f << "{\n  \"name\": " << json_quote(s.name) << ",\n  \"base\": " << json_quote(s.base_deck) << ",\n  \"runs\": [\n";
-    for (std::size_t i = 0; i < s.runs.size(); ++i) {
-      const auto& r = s.runs[i];
-      f << fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),
-                       json_quote("runs/" + r.id), json_quote(r.group), json_quote(r.value_label), r.seed,
-                       i + 1 < s.runs.size() ? "," : "");
-    }
-    f << "  ]\n}\n";
-  }
-  // The [analysis] table beside the runs, so that a later `pbxmpm report DIR` analyses them the
-  // same way; removed when the study deck no longer has one.
-  if (mpi.rank == 0) {
-    if (s.analysis_text.empty()) fs::remove(out / "analysis.toml");
-    else std::ofstream(out / "analysis.toml") << "# the study deck's [analysis] table, written by pbxmpm study\n"
-                                              << s.analysis_text;
-  }
-  mpi.barrier();
+  if (mpi.sum(setup_failed) > 0) return kStudyNotStarted;
   // Which runs this call does: the selected (--only) runs that have not finished. Rank 0 decides
   // and tells the others, so every rank deals the same list even where a shared file system shows
   // the ranks different states of the run folders.
@@ -400,13 +455,21 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const auto& r = s.runs[i];
     try {
       const std::string text = run_deck_text(s, r);
-      Deck deck = Deck::from_string(text, "deck.toml");
+      Deck deck = run_deck(s, text, out / "runs" / r.id / "deck.toml");
       Scene<2> scene = build_scene<2>(deck);
       deck.check_unused();
-      // an interrupted run continues from its checkpoint only if the study still gives its deck
+      // an interrupted run continues from its checkpoint only if the study still gives its deck;
+      // one whose header cannot be read is set aside when the run starts (below), not an error
       const fs::path ckpt = out / "runs" / r.id / "checkpoint.h5";
+      std::optional<std::string> saved_deck;
       if (fs::exists(ckpt)) {
-        const std::string diff = first_difference(read_checkpoint_header(ckpt.string()).deck_text, text);
+        try {
+          saved_deck = read_checkpoint_header(ckpt.string()).deck_text;
+        } catch (const InputError&) {
+        }
+      }
+      if (saved_deck) {
+        const std::string diff = first_difference(*saved_deck, text);
         if (!diff.empty()) {
           ++invalid;
           std::fprintf(stderr,
@@ -424,7 +487,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   if (invalid > 0) {
     if (mpi.rank == 0)
       std::fprintf(stderr, "pbxmpm study: %d run(s) with an invalid or changed deck; no run started\n", invalid);
-    return invalid;
+    return kStudyNotStarted;
   }
   const auto t0 = std::chrono::steady_clock::now();
   int failed = 0, done = 0;
@@ -449,7 +512,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       fs::create_directories(dir);
       const std::string text = run_deck_text(s, r);
       { std::ofstream(dir / "deck.toml") << text; }
-      Deck deck = Deck::from_file((dir / "deck.toml").string());
+      Deck deck = run_deck(s, text, dir / "deck.toml");
       Scene<2> scene = build_scene<2>(deck);
       deck.check_unused();
       const fs::path ckpt = dir / "checkpoint.h5";
@@ -496,7 +559,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       }
       if (!resumed) {
         if (restart) {  // the failed resume may have changed the scene: build it again
-          Deck again = Deck::from_file((dir / "deck.toml").string());
+          Deck again = run_deck(s, text, dir / "deck.toml");
           scene = build_scene<2>(again);
         }
         Runner<2> runner(scene, ro);
@@ -507,7 +570,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     } catch (const InstabilityError& e) {
       // the run would fail the same way from its checkpoint: a rerun (after a fix) starts it over
       ++failed;
-      fs::remove(dir / "checkpoint.h5");
+      std::error_code ec;  // no throw here: the other ranks wait for this one in the sum below
+      fs::remove(dir / "checkpoint.h5", ec);
       std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
     } catch (const std::exception& e) {
       ++failed;

@@ -36,6 +36,9 @@ struct StudySpec {
 // Reads and validates a study deck (unknown keys are errors naming the key).
 StudySpec read_study(const std::string& file);
 
+// Letters, digits, '_', '-', '.' and not starting with '.' or '-': safe as one folder name.
+bool is_folder_name(const std::string& name);
+
 // The base deck with the run's overrides applied, as TOML text.
 std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r);
 
@@ -58,7 +61,11 @@ struct StudyOptions {
 // robin in study order.
 std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size, int rank);
 
-// Runs (or resumes) the study; returns the number of runs that failed.
+// What run_study returns when it started no run (an invalid or changed deck, a folder another
+// process writes, a study folder that cannot be written): the messages are on stderr.
+inline constexpr int kStudyNotStarted = -1;
+
+// Runs (or resumes) the study; returns the number of runs that failed, or kStudyNotStarted.
 int run_study(const StudySpec& s, const StudyOptions& opt);
 
 }  // namespace pbx

@@ -176,3 +176,18 @@ TEST_F(CommandLine, AFolderAnotherProcessWritesIsRefused) {
   }
   EXPECT_EQ(pbxmpm(fmt::format("run {} --out {} -q", deck, busy.string())).code, 0);
 }
+
+// Options that would be ignored are refused: analysis flags beside report --reuse-analysis (the
+// runs' analysis.json files are used as they are), a deck beside run --restart (the checkpoint's
+// own deck is the one that runs).
+TEST_F(CommandLine, IgnoredOptionsAreRefused) {
+  expect_refused("report " + dir.string() + " --reuse-analysis --window 0.004:0.02",
+                 "report: --window changes the analysis, but --reuse-analysis uses the runs' analysis.json as they are");
+  expect_refused("report " + dir.string() + " --reuse-analysis --options " + write("a.toml", "[analysis]\n"),
+                 "report: --options changes the analysis");
+  const std::string deck = write("block.toml", pbx::test::block_deck(100, 0.005));
+  const fs::path part = dir / "part";
+  ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q --checkpoint-every 5", deck, part.string())).code, 0);
+  expect_refused(fmt::format("run {} --restart {} -q", deck, (part / "checkpoint.h5").string()),
+                 "give a deck or --restart CHECKPOINT, not both");
+}

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -16,6 +17,7 @@
 #include "core/error.hpp"
 #include "analysis/json.hpp"
 #include "io/deck.hpp"
+#include "microstructure/packing.hpp"
 #include "solver/runner.hpp"
 #include "study/study.hpp"
 #include "study/study_status.hpp"
@@ -101,7 +103,7 @@ TEST(Study, MpiTwoRanksEqualsSequentialAndResumes) {
     ASSERT_NE(pos, std::string::npos);
     changed.insert(pos, "# edited\n");
     std::ofstream(deck) << changed;
-    EXPECT_EQ(run_study(s, o), 1);
+    EXPECT_EQ(run_study(s, o), kStudyNotStarted);
     EXPECT_EQ(fs::last_write_time(dir / "seq" / "runs" / s.runs[0].id / "history.csv"), stamp);
     std::ofstream(deck) << good;
     EXPECT_EQ(run_study(s, o), 0);
@@ -301,7 +303,7 @@ TEST(Study, InvalidRunDeckStopsTheStudyBeforeAnyRun) {
   o.progress = false;
   const StudySpec s = read_study((dir / "study.toml").string());
   ASSERT_EQ(s.runs.size(), 2u);
-  EXPECT_EQ(run_study(s, o), 1);
+  EXPECT_EQ(run_study(s, o), kStudyNotStarted);
   for (const auto& r : s.runs) EXPECT_FALSE(fs::exists(dir / "out" / "runs" / r.id / "history.csv")) << r.id;
   fs::remove_all(dir);
 }
@@ -400,7 +402,7 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
   o.out_dir = (dir / "cut").string();
   o.only = {};
   o.checkpoint_every = 10;
-  EXPECT_EQ(run_study(s, o), 1);
+  EXPECT_EQ(run_study(s, o), kStudyNotStarted);
   EXPECT_FALSE(fs::exists(dir / "cut" / "runs" / s.runs[1].id / "history.csv"));
   EXPECT_NE(slurp(cut / "history.csv"), whole);
   fs::remove(dir / "cut" / "runs" / s.runs[1].id / "checkpoint.h5");
@@ -492,4 +494,121 @@ TEST(Study, StatusSaysWhereEachRunStands) {
   std::ofstream(rj) << json;
   EXPECT_EQ(study_status((dir / "out").string())[1].state, "interrupted");
   if (!HasFailure()) fs::remove_all(dir);
+}
+
+// Under mpirun, a study folder rank 0 cannot create (its parent is a file) ends the job with a
+// message on every rank's exit code; the other rank used to wait for rank 0 for ever (the test's
+// 5-minute timeout would catch that hang).
+TEST(Study, StudyFolderThatCannotBeMadeEndsEveryRank) {
+#ifndef PBXMPM_HAVE_MPI
+  GTEST_SKIP() << "built without MPI (-DPBXMPM_WITH_MPI=OFF)";
+#endif
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+  const fs::path dir = make_study();
+  std::ofstream(dir / "a_file") << "not a folder\n";
+  const std::string cmd = "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe -n 2 " +
+                          std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() + " --out " +
+                          (dir / "a_file" / "out").string() + " --quiet --no-report > " + (dir / "mpi.log").string() +
+                          " 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << slurp(dir / "mpi.log");
+  EXPECT_NE(WEXITSTATUS(status), 0) << slurp(dir / "mpi.log");
+  EXPECT_NE(WEXITSTATUS(status), 124) << "the ranks hung (timeout):\n" << slurp(dir / "mpi.log");
+  EXPECT_NE(slurp(dir / "mpi.log").find("the study did not start"), std::string::npos) << slurp(dir / "mpi.log");
+  fs::remove_all(dir);
+}
+
+// A relative specimen.packing_dir in the base deck is found beside the base deck, wherever the
+// study is started from (it was looked up in the current folder by the deck check and in the
+// run's folder by the run, so such a study could not run from anywhere).
+TEST(Study, RelativePackingDirResolvesBesideTheBaseDeck) {
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_study_relpack_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "decks");
+  std::string base = slurp(fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml");
+  // the specimen from a packing of four coated grains in the paper's 1.0 x 1.2 mm box
+  const auto a = base.find("[packing]");
+  ASSERT_NE(a, std::string::npos);
+  const auto b = base.find("[materials.");
+  base.erase(a, b - a);
+  const auto sp = base.find("[specimen]");
+  base.insert(base.find('\n', sp) + 1, "packing_dir = \"packing\"\n");
+  base.erase(base.find("seed = 1\n", sp), 9);
+  std::ofstream(dir / "decks" / "base.toml") << base;
+  Packing p;
+  p.box = {1.0e-3, 1.2e-3};
+  p.periodic = false;
+  p.tatb_density = 1934;
+  p.binder_density = 2020;
+  p.contact_gap = 2e-6;
+  for (int i = 0; i < 4; ++i) {
+    Grain g;
+    g.centre = {0.25e-3 + 0.5e-3 * (i % 2), 0.3e-3 + 0.6e-3 * (i / 2)};
+    g.diameter = 0.3e-3;
+    g.coat = 4e-6;
+    g.colour = i;
+    p.grains.push_back(g);
+  }
+  write_packing(p, (dir / "decks" / "packing").string());
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"relpack\"\nbase = \"decks/base.toml\"\n"
+                                       "[study.set]\n\"grid.cell_size\" = \"20 um\"\n\"run.end_strain\" = 0.01\n"
+                                       "\"run.history_points\" = 100\n\"run.snapshots\" = 0\n"
+                                       "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n"
+                                       "[analysis]\nlinear_window = [0.0042, 0.0095]\nstrength_max_strain = 0.01\n";
+  const StudySpec s = read_study((dir / "study.toml").string());
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  ASSERT_EQ(run_study(s, o), 0);  // started from the test's folder, not the base deck's
+  EXPECT_NE(slurp(dir / "out" / "runs" / s.runs[0].id / "run.json").find("\"status\": \"finished\""), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// A group that gives the seed itself on a specimen no seed reaches (read from a packing, or no
+// specimen at all) would make several names for one run; a seed that is not a whole number would
+// be cut (2.5 became 2 while study.json said 2.5). Both are refused naming the key.
+TEST(Study, SeedsThatWouldNotReachTheRunAreRefused) {
+  auto error_of = [](const fs::path& dir) {
+    try {
+      read_study((dir / "study.toml").string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const fs::path dir = make_study();  // the demo deck: no [specimen]
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
+                                       "[[study.group]]\nname = \"seed\"\nkey = \"specimen.seed\"\nvalues = [5, 6]\n";
+  EXPECT_NE(error_of(dir).find("study.group[0].key: group 'seed' gives the specimen's seed, but the base deck has no [specimen]"),
+            std::string::npos)
+      << error_of(dir);
+  fs::copy_file(fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml", dir / "base.toml",
+                fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
+                                       "[[study.group]]\nname = \"seed\"\nkey = \"packing.seed\"\nvalues = [1.5, 2.5]\n";
+  EXPECT_NE(error_of(dir).find("study.group[0].values: seed '1.5' is not a non-negative integer"), std::string::npos)
+      << error_of(dir);
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
+                                       "[[study.group]]\nname = \"../seed\"\nkey = \"packing.seed\"\nvalues = [1, 2]\n";
+  EXPECT_NE(error_of(dir).find("study.group[0].name: '../seed' names a folder"), std::string::npos) << error_of(dir);
+  fs::remove_all(dir);
+}
+
+// An unreadable checkpoint (here: empty) is set aside and its run starts over, as the docs say;
+// it used to stop the whole study before any run.
+TEST(Study, UnreadableCheckpointIsSetAsideAndTheRunStartsOver) {
+  const fs::path dir = make_study("", "[10]");
+  const StudySpec s = read_study((dir / "study.toml").string());
+  const fs::path run = dir / "out" / "runs" / s.runs[0].id;
+  fs::create_directories(run);
+  std::ofstream(run / "checkpoint.h5") << "";
+  StudyOptions o;
+  o.out_dir = (dir / "out").string();
+  o.report = false;
+  o.progress = false;
+  ASSERT_EQ(run_study(s, o), 0);
+  EXPECT_NE(slurp(run / "run.json").find("\"status\": \"finished\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(run / "checkpoint.unusable.h5"));
+  fs::remove_all(dir);
 }
