@@ -35,9 +35,8 @@ OutputLock::OutputLock(const std::filesystem::path& dir, const std::string& what
   }
   // the holder's pid, for the message a second process prints (informative only: the flock is the lock)
   const std::string pid = std::to_string(::getpid()) + "\n";
-  if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
-    // a lock file we cannot write the pid into still locks
-  }
+  // a lock file we cannot write the pid into still locks
+  [[maybe_unused]] const bool noted = ::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) > 0;
 }
 
 OutputLock& OutputLock::operator=(OutputLock&& o) noexcept {

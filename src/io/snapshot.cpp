@@ -2,12 +2,13 @@
 
 #include <filesystem>
 #include <cstring>
-#include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <hdf5.h>
 
 #include "core/error.hpp"
+#include "io/atomic_write.hpp"
 
 namespace pbx {
 
@@ -72,10 +73,8 @@ void SnapshotWriter::write(const SnapshotData& s) {
 }
 
 void SnapshotWriter::write_xdmf() const {
-  // under a temporary name, then renamed: a run killed mid-write keeps the previous sidecar
-  const auto file = std::filesystem::path(dir_) / "snapshots.xmf";
-  const auto tmp = std::filesystem::path(dir_) / "snapshots.xmf.tmp";
-  std::ofstream x(tmp);
+  // replaced whole: a run killed mid-write keeps the previous sidecar
+  std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
        "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& e : entries_) {
@@ -101,9 +100,7 @@ void SnapshotWriter::write_xdmf() const {
     x << "</Grid>\n";
   }
   x << "</Grid>\n</Domain>\n</Xdmf>\n";
-  x.close();
-  if (!x) throw InputError(fmt::format("cannot write '{}'", tmp.string()));
-  std::filesystem::rename(tmp, file);
+  write_text_atomically(std::filesystem::path(dir_) / "snapshots.xmf", x.str());
 }
 
 }  // namespace pbx

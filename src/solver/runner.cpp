@@ -9,6 +9,8 @@
 #include <fstream>
 
 #include <fmt/format.h>
+
+#include "io/atomic_write.hpp"
 #include <omp.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -267,11 +269,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
     if (c == '\n') { esc += "\\n"; continue; }
     esc += c;
   }
-  // written under a temporary name, then renamed: a report made while the run goes never reads
-  // a half-written file
-  const auto file = std::filesystem::path(opt_.out_dir) / "run.json";
-  std::ofstream f(file.string() + ".tmp");
-  f << fmt::format(
+  write_text_atomically(std::filesystem::path(opt_.out_dir) / "run.json", fmt::format(
       R"J({{
   "status": "{}",
   "message": "{}",
@@ -311,9 +309,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
       overlap_ ? fmt::format("{:.6g}", overlap_->pixel()) : std::string("null"), sc_.control.temperature,
       sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen,
       opt_.study_json.empty() ? "null" : opt_.study_json, mats,
-      opt_.deck_json.empty() ? "null" : opt_.deck_json);
-  f.close();
-  std::filesystem::rename(file.string() + ".tmp", file);
+      opt_.deck_json.empty() ? "null" : opt_.deck_json));
 }
 
 // The machine a run goes on (`pbxmpm status` tells a live run from an interrupted one by it and
@@ -496,15 +492,8 @@ void Runner<D>::resume(const CheckpointData& c) {
       throw InputError(fmt::format("restart: the columns of '{}' differ from the ones this version writes "
                                    "(the checkpoint comes from another code version); rerun from the start",
                                    file));
-    // the kept rows go to a temporary name, then replace the file: a run killed here keeps the
-    // history it had (which the checkpoint's restart cuts again), never a half-written one
-    {
-      std::ofstream tmp(file + ".tmp");
-      tmp << kept;
-      tmp.close();
-      if (!tmp) throw InputError(fmt::format("restart: cannot write '{}.tmp'", file));
-    }
-    std::filesystem::rename(file + ".tmp", file);
+    // a run killed here keeps the history it had (which the checkpoint's restart cuts again)
+    write_text_atomically(file, kept);
     history_ = CsvWriter(file, columns_, true);
   }
   resumed_ = true;

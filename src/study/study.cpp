@@ -19,6 +19,7 @@
 #include "analysis/run_analysis.hpp"
 #include "analysis/study_report.hpp"
 #include "core/error.hpp"
+#include "io/atomic_write.hpp"
 #include "io/checkpoint.hpp"
 #include "io/output_lock.hpp"
 #include "io/deck.hpp"
@@ -340,28 +341,20 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
 // [analysis] table beside the runs (so that a later `pbxmpm report DIR` analyses them the same way;
 // removed when the study deck no longer has one).
 static void write_study_files(const StudySpec& s, const fs::path& out) {
-  {
-    std::ofstream f(out / "study.json");
-    // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
-    f << "{\n  \"name\": " << json_quote(s.name) << ",\n  \"base\": " << json_quote(s.base_deck) << ",\n  \"runs\": [\n";
-    for (std::size_t i = 0; i < s.runs.size(); ++i) {
-      const auto& r = s.runs[i];
-      f << fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),
-                       json_quote("runs/" + r.id), json_quote(r.group), json_quote(r.value_label), r.seed,
-                       i + 1 < s.runs.size() ? "," : "");
-    }
-    f << "  ]\n}\n";
-    f.close();
-    if (!f) throw InputError(fmt::format("cannot write '{}'", (out / "study.json").string()));
+  // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
+  std::string json = "{\n  \"name\": " + json_quote(s.name) + ",\n  \"base\": " + json_quote(s.base_deck) + ",\n  \"runs\": [\n";
+  for (std::size_t i = 0; i < s.runs.size(); ++i) {
+    const auto& r = s.runs[i];
+    json += fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),
+                        json_quote("runs/" + r.id), json_quote(r.group), json_quote(r.value_label), r.seed,
+                        i + 1 < s.runs.size() ? "," : "");
   }
-  if (s.analysis_text.empty()) {
+  write_text_atomically(out / "study.json", json + "  ]\n}\n");
+  if (s.analysis_text.empty())
     fs::remove(out / "analysis.toml");
-  } else {
-    std::ofstream f(out / "analysis.toml");
-    f << "# the study deck's [analysis] table, written by pbxmpm study\n" << s.analysis_text;
-    f.close();
-    if (!f) throw InputError(fmt::format("cannot write '{}'", (out / "analysis.toml").string()));
-  }
+  else
+    write_text_atomically(out / "analysis.toml",
+                          "# the study deck's [analysis] table, written by pbxmpm study\n" + s.analysis_text);
 }
 
 // A run's deck, read from the text the study generated for it (runs/<id>/deck.toml). Its relative

@@ -1,20 +1,13 @@
 #include <gtest/gtest.h>
 
+#include "input_error_message.hpp"
+
 #include "core/error.hpp"
 #include "io/deck.hpp"
 
 using namespace pbx;
 
-namespace {
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using pbx::test::message_of;
 
 TEST(Deck, ReadsQuantitiesAndReportsUnknownKeysWithLine) {
   auto deck = Deck::from_string("[grid]\ncell_size = \"5 um\"\ncfll = 0.5\n", "d.toml");

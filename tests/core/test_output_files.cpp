@@ -9,33 +9,23 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "input_error_message.hpp"
 #include "io/csv_writer.hpp"
 #include "io/output_lock.hpp"
 
 namespace fs = std::filesystem;
 using namespace pbx;
 
-namespace {
-// the message of the InputError `f` throws, or "" if it throws none
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using pbx::test::message_of;
 
 // /dev/full accepts the open and fails every write with ENOSPC, as a full disk does.
 TEST(OutputFiles, CsvRowsThatCannotBeWrittenAreErrorsNamingTheFile) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  const std::string header = input_error([] { CsvWriter w("/dev/full", {"t_s", "strain"}); });
+  const std::string header = message_of([] { CsvWriter w("/dev/full", {"t_s", "strain"}); });
   EXPECT_NE(header.find("cannot write '/dev/full'"), std::string::npos) << header;
   EXPECT_NE(header.find("No space left"), std::string::npos) << header;
   CsvWriter append("/dev/full", {"t_s", "strain"}, true);  // a restart appends: no header is written
-  const std::string row = input_error([&] { append.row({0.0, 0.0}); });
+  const std::string row = message_of([&] { append.row({0.0, 0.0}); });
   EXPECT_NE(row.find("cannot write a row to '/dev/full'"), std::string::npos) << row;
 }
 
@@ -47,7 +37,7 @@ TEST(OutputFiles, ASecondWriterIsRefusedTheFolderUntilTheFirstEnds) {
   {
     OutputLock first(dir, "run");
     ASSERT_TRUE(first.held());
-    const std::string second = input_error([&] { OutputLock again(dir, "run"); });
+    const std::string second = message_of([&] { OutputLock again(dir, "run"); });
     EXPECT_NE(second.find("another pbxmpm process (pid " + std::to_string(::getpid()) + ") is writing to '" +
                           dir.string() + "'"),
               std::string::npos)
@@ -56,6 +46,6 @@ TEST(OutputFiles, ASecondWriterIsRefusedTheFolderUntilTheFirstEnds) {
   }
   // the lock file stays (removing it would race a third process); it no longer locks
   EXPECT_TRUE(fs::exists(dir / OutputLock::kFile));
-  EXPECT_EQ(input_error([&] { OutputLock next(dir, "run"); }), "");
+  EXPECT_EQ(message_of([&] { OutputLock next(dir, "run"); }), "");
   fs::remove_all(dir);
 }

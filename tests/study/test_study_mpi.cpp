@@ -57,6 +57,16 @@ fs::path make_study(const std::string& extra = "", const std::string& values = "
   return dir;
 }
 
+// The error reading dir/study.toml gives, or "(no error)".
+std::string error_of(const fs::path& dir) {
+  try {
+    read_study((dir / "study.toml").string());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
 // Makes run `r` of study `s` in `run_dir` as a study would, writing a checkpoint every 5 history
 // rows, and stops it (an exception) after `rows` rows: an interrupted run.
 void interrupt_run(const StudySpec& s, const StudyRunSpec& r, const fs::path& run_dir, int rows) {
@@ -142,14 +152,6 @@ TEST(Study, BadStudyDeckNamesTheKey) {
 // (identical runs presented as an ensemble), and study seeds over a group that sets the seed
 // itself (the study seed used to overwrite it, so every "seed" run was seed 1).
 TEST(Study, DeckThatWouldMakeIdenticalRunsIsRefused) {
-  auto error_of = [](const fs::path& dir) {
-    try {
-      read_study((dir / "study.toml").string());
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
   fs::path dir = make_study("", "[10, 10]");
   EXPECT_NE(error_of(dir).find("get the same id 'scaling-10-s1'"), std::string::npos) << error_of(dir);
   fs::remove_all(dir);
@@ -569,14 +571,6 @@ TEST(Study, RelativePackingDirResolvesBesideTheBaseDeck) {
 // specimen at all) would make several names for one run; a seed that is not a whole number would
 // be cut (2.5 became 2 while study.json said 2.5). Both are refused naming the key.
 TEST(Study, SeedsThatWouldNotReachTheRunAreRefused) {
-  auto error_of = [](const fs::path& dir) {
-    try {
-      read_study((dir / "study.toml").string());
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
   const fs::path dir = make_study();  // the demo deck: no [specimen]
   std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
                                        "[[study.group]]\nname = \"seed\"\nkey = \"specimen.seed\"\nvalues = [5, 6]\n";
