@@ -11,6 +11,8 @@
 #include <string>
 #include <type_traits>
 
+#include <emmintrin.h>
+
 #include "core/tensor.hpp"
 
 namespace pbx {
@@ -134,8 +136,14 @@ inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& 
   using detail::v2l;
   const v2d s = {(x[0] - origin[0]) * inv_h, (x[1] - origin[1]) * inv_h};
   const v2d sh = s + splat(0.5);
-  v2d fl = __builtin_convertvector(__builtin_convertvector(sh, v2l), v2d);  // truncation
-  fl = fl > sh ? fl - splat(1.0) : fl;                                      // floor below zero
+  // Truncation through packed 32-bit integers (SSE2 cvttpd2dq/cvtdq2pd): SSE2 has no packed
+  // conversion to 64-bit integers, and the one through v2l was four scalar conversions per
+  // stencil. Coordinates in cells are far below 2^31.
+  __m128i ti = _mm_cvttpd_epi32(sh);
+  v2d fl = _mm_cvtepi32_pd(ti);
+  const v2l below = fl > sh;                               // floor below zero: one less
+  fl = below ? fl - splat(1.0) : fl;
+  ti = _mm_add_epi32(ti, _mm_shuffle_epi32(reinterpret_cast<__m128i>(below), _MM_SHUFFLE(2, 0, 2, 0)));
   const v2d u = s - fl;
   const v2d inv_2a = splat(hw.inv_2a), inv_4a = splat(hw.inv_4a), va = splat(hw.a), ma = splat(-hw.a);
   const v2d one = splat(1.0), zero = splat(0.0), ih = splat(inv_h);
@@ -149,8 +157,9 @@ inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& 
   const v2d w2 = u > va ? u : (u > ma ? q2 * q2 * inv_4a : zero);
   const v2d g2 = (u > va ? one : (u > ma ? q2 * inv_2a : zero)) * ih;
   Stencil<2> st;
+  st.base[0] = _mm_cvtsi128_si32(ti) - 1;
+  st.base[1] = _mm_cvtsi128_si32(_mm_srli_si128(ti, 4)) - 1;
   for (int d = 0; d < 2; ++d) {
-    st.base[d] = static_cast<int>(fl[d]) - 1;
     st.w[d] = {w0[d], w1[d], w2[d]};
     st.g[d] = {g0[d], g1[d], g2[d]};
   }

@@ -45,7 +45,8 @@ void Solver<D>::particle_pass_impl() {
   long strays = 0;
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad_v, bad_s, left) reduction(+ : strays)
-    for (long s = phase; s < bins_.strips; s += 2) {
+    for (long k = 0; k < bins_.phase_size(phase); ++k) {
+      const long s = bins_.phase_strip(phase, k);
       const long b = bins_.begin[static_cast<std::size_t>(s)], e = bins_.begin[static_cast<std::size_t>(s + 1)];
       std::vector<long> cursor(nm), count(nm);  // batch position of the chunk's first particle, per material
       for (std::size_t m = 0; m < nm; ++m) cursor[m] = batch_begin_[m][static_cast<std::size_t>(s)];

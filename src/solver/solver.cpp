@@ -204,10 +204,12 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   const Scatter<D> scatter_one = scatter(mass_momentum, forces);
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1)
-    for (long s = phase; s < bins_.strips; s += 2)
+    for (long k = 0; k < bins_.phase_size(phase); ++k) {
+      const long s = bins_.phase_strip(phase, k);
       for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
         if (!bins_.stray[static_cast<std::size_t>(p)])
           scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+    }
   }
   for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
 }
@@ -352,7 +354,8 @@ void Solver<D>::g2p_impl() {
   long strays = 0;
   for (int phase = 0; phase < 2; ++phase) {
 #pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2) reduction(min : bad, left) reduction(+ : strays)
-    for (long s = phase; s < bins_.strips; s += 2) {
+    for (long k = 0; k < bins_.phase_size(phase); ++k) {
+      const long s = bins_.phase_strip(phase, k);
       for (long q = bins_.begin[static_cast<std::size_t>(s)]; q < bins_.begin[static_cast<std::size_t>(s + 1)]; ++q) {
         const auto p = static_cast<std::uint32_t>(q);
         const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);

@@ -54,7 +54,7 @@ struct Scatter {
   bool gradients;       // volume gradients (contact normals between several fields)
   bool layers;          // reference positions, F and bond flags (binder_layer contact law)
 
-  void operator()(std::uint32_t p, const Stencil<D>& st) const {
+  [[gnu::always_inline]] void operator()(std::uint32_t p, const Stencil<D>& st) const {
     const long off = P.field[p] * g.nodes();  // a product of two longs in 2-D
     const double m = P.mass[p] * fs;
     const Vec<D> mv = m * P.v[p];
@@ -70,37 +70,56 @@ struct Scatter {
     if constexpr (D == 2) {
       // Tensor-product form of the 3 x 3 stencil, S = wx_i wy_j, G = (gx_i wy_j, wx_i gy_j):
       // per node row j the particle's contributions are scaled by the row factors once, then
-      // by the x factors. The run-constant switches are tested once per row, so the node loops
-      // are straight-line code; every nodal sum keeps its order.
-      const auto& wx = st.w[0];
-      const auto& gx = st.g[0];
-      const long b0 = st.base[0] * g.stride[0] + st.base[1] * g.stride[1];
+      // by the x factors. Every nodal sum keeps its order.
+      // The weights and the run-constant switches are copied into locals first: a store into a
+      // nodal array may alias the stencil and this functor as far as the compiler knows, so it
+      // reloaded every weight and re-tested every switch after each of the 63 nodal stores.
+      const double wx0 = st.w[0][0], wx1 = st.w[0][1], wx2 = st.w[0][2];
+      const double gx0 = st.g[0][0], gx1 = st.g[0][1], gx2 = st.g[0][2];
+      const double wys[3] = {st.w[1][0], st.w[1][1], st.w[1][2]};
+      const double gys[3] = {st.g[1][0], st.g[1][1], st.g[1][2]};
+      const bool do_mass = mass_momentum, do_forces = forces, do_offsets = offsets, do_gradients = gradients,
+                 do_gravity = gravity, do_layers = layers;
+      const long row_stride = g.stride[1];
+      const long b0 = st.base[0] * g.stride[0] + st.base[1] * row_stride;
       // the particle's contact normal, mapped with F^-T (binder_layer runs only): once per particle
-      const Vec<D> normal = layers ? Vec<D>(P.F[p].inverse().transpose() * P.N0[p]) : Vec<D>::Zero();
+      const Vec<D> normal = do_layers ? Vec<D>(P.F[p].inverse().transpose() * P.N0[p]) : Vec<D>::Zero();
+      const Vec<D> s0 = sv.col(0), s1 = sv.col(1);
       for (int j = 0; j < 3; ++j) {
-        const long r = b0 + j * g.stride[1];
-        const double wy = st.w[1][j], gy = st.g[1][j];
-        if (mass_momentum) {
+        const long r = b0 + j * row_stride;
+        const double wy = wys[j], gy = gys[j];
+        if (do_mass) {
           const double mj = wy * m;
           const Vec<D> pj = wy * mv;
-          for (int i = 0; i < 3; ++i) {
-            gm[r + i] += wx[i] * mj;
-            gp[r + i] += wx[i] * pj;
-          }
-          if (offsets) {
+          gm[r] += wx0 * mj;
+          gm[r + 1] += wx1 * mj;
+          gm[r + 2] += wx2 * mj;
+          gp[r] += wx0 * pj;
+          gp[r + 1] += wx1 * pj;
+          gp[r + 2] += wx2 * pj;
+          if (do_offsets) {
             const Vec<D> oj = mj * xs;
-            for (int i = 0; i < 3; ++i) go[r + i] += wx[i] * oj;
+            go[r] += wx0 * oj;
+            go[r + 1] += wx1 * oj;
+            go[r + 2] += wx2 * oj;
           }
-          if (gradients)
-            for (int i = 0; i < 3; ++i) gg[r + i] += vol * Vec<D>(gx[i] * wy, wx[i] * gy);
-          if (layers) scatter_layer_row<D>(g, P, p, off, r, wx, mj, normal);
+          if (do_gradients) {
+            gg[r] += vol * Vec<D>(gx0 * wy, wx0 * gy);
+            gg[r + 1] += vol * Vec<D>(gx1 * wy, wx1 * gy);
+            gg[r + 2] += vol * Vec<D>(gx2 * wy, wx2 * gy);
+          }
+          if (do_layers) scatter_layer_row<D>(g, P, p, off, r, {wx0, wx1, wx2}, mj, normal);
         }
-        if (forces) {
-          const Vec<D> fa = wy * sv.col(0), fb = gy * sv.col(1);
-          const Vec<D> fj = wy * fext;
-          for (int i = 0; i < 3; ++i) {
-            gf[r + i] += gx[i] * fa + wx[i] * fb;
-            if (gravity) gf[r + i] += wx[i] * fj;
+        if (do_forces) {
+          const Vec<D> fa = wy * s0, fb = gy * s1;
+          gf[r] += gx0 * fa + wx0 * fb;
+          gf[r + 1] += gx1 * fa + wx1 * fb;
+          gf[r + 2] += gx2 * fa + wx2 * fb;
+          if (do_gravity) {
+            const Vec<D> fj = wy * fext;
+            gf[r] += wx0 * fj;
+            gf[r + 1] += wx1 * fj;
+            gf[r + 2] += wx2 * fj;
           }
         }
       }

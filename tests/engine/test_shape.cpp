@@ -87,8 +87,11 @@ TEST(Shape, TwoLaneUgimpStencilEqualsKernel1dBitForBit) {
   const double h = 5.0e-6, inv_h = 1.0 / h;
   for (const double a : {0.5, 0.25, 1.0 / 6.0}) {
     std::vector<double> cells;
-    for (double s = 1.0; s < 4.0; s += 0.00731) cells.push_back(s);
-    for (double c = 1.0; c <= 4.0; c += 1.0)
+    // negative cell coordinates too (the floor below zero) and far from the origin (the integer
+    // conversion of the two-lane form)
+    for (double s = -3.0; s < 4.0; s += 0.00731) cells.push_back(s);
+    for (const double s : {12345.678, 99999.5, 250000.25, -4321.125}) cells.push_back(s);
+    for (double c = -3.0; c <= 4.0; c += 1.0)
       for (const double d : {0.0, a, -a, 0.5, -0.5, 1.0 - a, a - 1.0})
         for (const double eps : {0.0, 1e-12, -1e-12}) cells.push_back(c + 0.5 + d + eps);
     for (std::size_t k = 0; k < cells.size(); ++k) {
