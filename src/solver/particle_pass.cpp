@@ -37,7 +37,8 @@ void Solver<D>::particle_pass_impl() {
   const HalfWidth a(half_width_);
   const long nn = g.nodes();
   const std::size_t nm = sc_.materials.size();
-  const Scatter<D> scatter_one = scatter(true, true);
+  Scatter<D> scatter_one = scatter(true, true);
+  if (offset_bases_valid_) scatter_one.offset_bases = offset_bases_.data();
   // per chunk, summed in chunk order after the pass (thread-count independent)
   std::vector<MaterialStepResult> results(static_cast<std::size_t>(chunk_begin_.back()));
   double vmax2 = 0;

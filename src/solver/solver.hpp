@@ -82,6 +82,7 @@ class Solver {
   template <Kernel K> void remap_gradient_impl();
   template <Kernel K> void velocity_gradient_impl();
   template <Kernel K> void rigid_p2g_impl();
+  template <Kernel K> void mark_offset_bases();
   template <Kernel K> void particle_pass_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
   Scatter<D> scatter(bool mass_momentum, bool forces);
@@ -104,6 +105,10 @@ class Solver {
   std::vector<std::vector<long>> batch_begin_;  // [material][strip]: first batch position
   std::vector<long> chunk_begin_;               // [strip]: first fused-pass chunk (results order)
   std::vector<std::vector<std::pair<long, double>>> static_presence_;
+  // Stencil base nodes of the particles whose next P2G must scatter mass-centre offsets (near a
+  // rigid body), when valid this step (mark_offset_bases); otherwise every particle scatters them.
+  std::vector<std::uint8_t> offset_bases_, static_offset_bases_;
+  bool offset_bases_valid_ = false;
   ContactTally<D> contact_tally_;
 };
 

@@ -53,6 +53,9 @@ struct Scatter {
   bool offsets;         // mass-centre offsets (rigid-body contact gate, field position check)
   bool gradients;       // volume gradients (contact normals between several fields)
   bool layers;          // reference positions, F and bond flags (binder_layer contact law)
+  // with offsets: only particles whose stencil base node is marked here scatter them (2-D; null:
+  // every particle)
+  const std::uint8_t* offset_bases = nullptr;
 
   [[gnu::always_inline]] void operator()(std::uint32_t p, const Stencil<D>& st) const {
     const long off = P.field[p] * g.nodes();  // a product of two longs in 2-D
@@ -78,10 +81,10 @@ struct Scatter {
       const double gx0 = st.g[0][0], gx1 = st.g[0][1], gx2 = st.g[0][2];
       const double wys[3] = {st.w[1][0], st.w[1][1], st.w[1][2]};
       const double gys[3] = {st.g[1][0], st.g[1][1], st.g[1][2]};
-      const bool do_mass = mass_momentum, do_forces = forces, do_offsets = offsets, do_gradients = gradients,
-                 do_gravity = gravity, do_layers = layers;
       const long row_stride = g.stride[1];
       const long b0 = st.base[0] * g.stride[0] + st.base[1] * row_stride;
+      const bool do_mass = mass_momentum, do_forces = forces, do_gradients = gradients, do_gravity = gravity,
+                 do_layers = layers, do_offsets = offsets && (offset_bases == nullptr || offset_bases[b0] != 0);
       // the particle's contact normal, mapped with F^-T (binder_layer runs only): once per particle
       const Vec<D> normal = do_layers ? Vec<D>(P.F[p].inverse().transpose() * P.N0[p]) : Vec<D>::Zero();
       const Vec<D> s0 = sv.col(0), s1 = sv.col(1);
