@@ -1,5 +1,6 @@
 #include "contact/rigid_contact.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/parallel.hpp"
@@ -26,13 +27,12 @@ struct BodySums {
 
 template <int D>
 void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t,
-                   double mass_eps, RigidContactResult<D>& out) {
+                   double mass_eps, const std::vector<long>& body_nodes, RigidContactResult<D>& out) {
   const long nn = grid.nodes();
   const std::size_t nb = bodies.size();
   std::vector<Vec<D>> vb(nb);
   std::vector<double> face(nb);
-  // each body's presence array, looked up once: the node loop below visits every node of the
-  // grid for every body, and most nodes have no body at all
+  // each body's presence array, looked up once
   std::vector<const double*> presence(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     vb[b] = bodies[b].velocity_at(t);
@@ -42,7 +42,10 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
 
   BodySums<D> sums = ordered_reduce(nn, BodySums<D>(nb), [&](long begin, long end) {
     BodySums<D> s(nb);
-    for (long i = begin; i < end; ++i) {
+    const auto first = std::lower_bound(body_nodes.begin(), body_nodes.end(), begin);
+    const auto last = std::lower_bound(first, body_nodes.end(), end);
+    for (auto it = first; it != last; ++it) {
+      const long i = *it;
       for (std::size_t b = 0; b < nb; ++b) {
         if (presence[b][i] <= 0.0) continue;
         const Vec<D>& n = bodies[b].normal;
@@ -89,7 +92,7 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
   out.friction_work = std::move(sums.friction);
 }
 
-template void rigid_contact<2>(Grid<2>&, std::vector<RigidBody<2>>&, int, double, double, RigidContactResult<2>&);
-template void rigid_contact<3>(Grid<3>&, std::vector<RigidBody<3>>&, int, double, double, RigidContactResult<3>&);
+template void rigid_contact<2>(Grid<2>&, std::vector<RigidBody<2>>&, int, double, double, const std::vector<long>&, RigidContactResult<2>&);
+template void rigid_contact<3>(Grid<3>&, std::vector<RigidBody<3>>&, int, double, double, const std::vector<long>&, RigidContactResult<3>&);
 
 }  // namespace pbx

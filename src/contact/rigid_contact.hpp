@@ -24,9 +24,12 @@ struct RigidContactResult {
 };
 
 // Applies the rigid contacts on the momenta `grid.mom` of fields [0, deformable). Returns the
-// impulses per body (to be recorded when the pass changes particle momentum).
+// impulses per body (to be recorded when the pass changes particle momentum). `body_nodes` lists,
+// ascending, every node where some body is present (grid.presence > 0); the other nodes are not
+// visited. The impulse sums are taken over fixed blocks of nodes in node order, so they do not
+// depend on the list or the thread count.
 template <int D>
 void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t,
-                   double mass_eps, RigidContactResult<D>& out);
+                   double mass_eps, const std::vector<long>& body_nodes, RigidContactResult<D>& out);
 
 }  // namespace pbx

@@ -1,6 +1,8 @@
 #include "solver/solver.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 #include <fmt/format.h>
@@ -232,6 +234,8 @@ void Solver<D>::rigid_p2g_impl() {
   const HalfWidth a(half_width_);
   const long nn = g.nodes();
   std::fill(g.presence.begin(), g.presence.end(), 0.0);
+  // the nodes where a moving body is present lie in [lo, hi] (a punch: a few node rows)
+  long lo = nn, hi = -1;
   for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
     auto& body = sc_.bodies[b];
     double* gm = g.presence.data() + (body.field - g.deformable) * nn;
@@ -242,13 +246,47 @@ void Solver<D>::rigid_p2g_impl() {
     }
     for (const auto& x : body.x) {
       const Stencil<D> st = make_stencil<D, K>(x, g.origin, inv_h, a);
-      for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { gm[i] += S; });
+      for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+        gm[i] += S;
+        lo = std::min(lo, i);
+        hi = std::max(hi, i);
+      });
     }
-    if (!body.moving())
+    if (!body.moving()) {
       for (long i = 0; i < nn; ++i)
         if (gm[i] > 0) cache.emplace_back(i, gm[i]);
+      static_body_nodes_.clear();  // rebuilt below with this body's nodes
+    }
   }
+  list_body_nodes(lo, hi);
   mark_offset_bases<K>();
+}
+
+// The ascending list of nodes where any body is present, for the rigid contact stage: the static
+// bodies' nodes (listed once) merged with the moving bodies' nodes found in [lo, hi]. The stage
+// visited every node of the grid for every body before (≈ 2 % of the die benchmark).
+template <int D>
+void Solver<D>::list_body_nodes(long lo, long hi) {
+  const auto& g = sc_.grid;
+  const long nn = g.nodes();
+  std::vector<long> moving;
+  for (long i = lo; i <= hi; ++i)
+    for (std::size_t b = 0; b < sc_.bodies.size(); ++b)
+      if (sc_.bodies[b].moving() && g.rigid_presence(sc_.bodies[b].field, i) > 0) {
+        moving.push_back(i);
+        break;
+      }
+  if (static_body_nodes_.empty()) {
+    std::vector<std::uint8_t> at(static_cast<std::size_t>(nn), 0);
+    for (std::size_t b = 0; b < sc_.bodies.size(); ++b)
+      if (!sc_.bodies[b].moving())
+        for (const auto& [i, S] : static_presence_[b]) at[static_cast<std::size_t>(i)] = 1;
+    for (long i = 0; i < nn; ++i)
+      if (at[static_cast<std::size_t>(i)]) static_body_nodes_.push_back(i);
+  }
+  body_nodes_.clear();
+  std::set_union(static_body_nodes_.begin(), static_body_nodes_.end(), moving.begin(), moving.end(),
+                 std::back_inserter(body_nodes_));
 }
 
 // Which particles' next P2G must carry mass-centre offsets. Where the rigid-body contact gate is
@@ -331,7 +369,7 @@ void Solver<D>::rigid_stage(bool record) {
     RigidContactResult<D> r;
     // The bodies' velocity over the step (t_n+1): also in MUSL's unrecorded remap pass, whose
     // momenta carry the end-of-step velocities (it used t_n: a punch lag of up to 1e-4 m/s in the ramp).
-    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, r);
+    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, body_nodes_, r);
     if (record) {
       for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
         sc_.bodies[b].impulse += r.impulse[b];

@@ -83,6 +83,7 @@ class Solver {
   template <Kernel K> void velocity_gradient_impl();
   template <Kernel K> void rigid_p2g_impl();
   template <Kernel K> void mark_offset_bases();
+  void list_body_nodes(long lo, long hi);
   template <Kernel K> void particle_pass_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
   Scatter<D> scatter(bool mass_momentum, bool forces);
@@ -109,6 +110,8 @@ class Solver {
   // rigid body), when valid this step (mark_offset_bases); otherwise every particle scatters them.
   std::vector<std::uint8_t> offset_bases_, static_offset_bases_;
   bool offset_bases_valid_ = false;
+  // nodes where a rigid body is present, ascending (rigid_p2g): all bodies', and the static ones'
+  std::vector<long> body_nodes_, static_body_nodes_;
   ContactTally<D> contact_tally_;
 };
 
