@@ -10,24 +10,25 @@
 
 namespace pbx::test {
 
+// width and height in mm (the default: the narrow, tall column above)
 inline std::string block_deck(double mass_scaling, double end_strain = 0.04, const char* integrator = "usl",
-                              const char* kernel = "ugimp") {
+                              const char* kernel = "ugimp", double width_mm = 0.04, double height_mm = 0.48) {
   return fmt::format(R"(
 [run]
-end_strain = {}
+end_strain = {0}
 history_points = 201
 snapshots = 0
 [grid]
 cell_size = "10 um"
-shape_function = "{}"
+shape_function = "{1}"
 particles_per_cell = 2
 [solver]
-integrator = "{}"
+integrator = "{2}"
 cfl = 0.4
-mass_scaling = {}
+mass_scaling = {3}
 [die]
-width = "0.04 mm"
-height = "0.48 mm"
+width = "{4} mm"
+height = "{5} mm"
 punch_velocity = "0.3 m/s"
 ramp_strain = 0.004
 [materials.block]
@@ -37,9 +38,9 @@ bulk_modulus = "10.59 GPa"
 shear_modulus = "11.5 GPa"
 [[geometry]]
 min = ["0 mm", "0 mm"]
-max = ["0.04 mm", "0.48 mm"]
+max = ["{4} mm", "{5} mm"]
 material = "block"
-)", end_strain, kernel, integrator, mass_scaling);
+)", end_strain, kernel, integrator, mass_scaling, width_mm, height_mm);
 }
 
 }  // namespace pbx::test

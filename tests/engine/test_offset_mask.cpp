@@ -4,38 +4,14 @@
 // left out (else the test would not test the mask).
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
-
+#include "block_deck.hpp"
 #include "scene_fixture.hpp"
 
 using namespace pbx;
 
 TEST(OffsetMask, OffsetsAtRigidBodyNodesEqualAFullScatter) {
-  // a block 40 cells wide and 20 high filling the die, so most particles are far from the walls
-  const std::string deck = R"(
-[run]
-end_strain = 0.01
-snapshots = 0
-[grid]
-cell_size = "10 um"
-particles_per_cell = 2
-[solver]
-mass_scaling = 100
-[die]
-width = "0.4 mm"
-height = "0.2 mm"
-punch_velocity = "0.3 m/s"
-ramp_strain = 0.001
-[materials.block]
-model = "linear_elastic"
-density = "1.934 g/cm3"
-bulk_modulus = "10.59 GPa"
-shear_modulus = "11.5 GPa"
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.4 mm", "0.2 mm"]
-material = "block"
-)";
+  // the die block 40 cells wide and 20 high, so most particles are far from the walls
+  const std::string deck = test::block_deck(100, 0.01, "usl", "ugimp", 0.4, 0.2);
   Scene<2> sc = test::scene_from(deck);
   Solver<2> solver(sc);
   for (int s = 0; s < 300; ++s) solver.step();  // the punch has moved in and pushes the block
