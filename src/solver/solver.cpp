@@ -244,8 +244,16 @@ void Solver<D>::rigid_p2g_impl() {
       for (auto& [i, S] : cache) gm[i] += S;
       continue;
     }
-    for (const auto& x : body.x) {
+    for (std::size_t k = 0; k < body.x.size(); ++k) {
+      const Vec<D>& x = body.x[k];
       const Stencil<D> st = make_stencil<D, K>(x, g.origin, inv_h, a);
+      // a moving body can leave the grid (the scene checks its particles at t = 0 only); its
+      // presence would then wrap to the next node row or be written past the end of the array
+      for (int d = 0; d < D; ++d)
+        if (st.base[d] < 0 || st.base[d] + 2 >= g.n[d])
+          throw InstabilityError(fmt::format("step {} (t = {:.6g} s): rigid body '{}' left the grid (its particle {} at "
+                                             "{:.6g} m along axis {}): enlarge the grid or stop the body earlier",
+                                             steps_, t_, body.name, k, x[d], d));
       for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
         gm[i] += S;
         lo = std::min(lo, i);
@@ -255,7 +263,7 @@ void Solver<D>::rigid_p2g_impl() {
     if (!body.moving()) {
       for (long i = 0; i < nn; ++i)
         if (gm[i] > 0) cache.emplace_back(i, gm[i]);
-      static_body_nodes_.clear();  // rebuilt below with this body's nodes
+      static_nodes_listed_ = false;  // rebuilt below with this body's nodes
     }
   }
   list_body_nodes(lo, hi);
@@ -276,13 +284,15 @@ void Solver<D>::list_body_nodes(long lo, long hi) {
         moving.push_back(i);
         break;
       }
-  if (static_body_nodes_.empty()) {
+  if (!static_nodes_listed_) {
+    static_body_nodes_.clear();
     std::vector<std::uint8_t> at(static_cast<std::size_t>(nn), 0);
     for (std::size_t b = 0; b < sc_.bodies.size(); ++b)
       if (!sc_.bodies[b].moving())
         for (const auto& [i, S] : static_presence_[b]) at[static_cast<std::size_t>(i)] = 1;
     for (long i = 0; i < nn; ++i)
       if (at[static_cast<std::size_t>(i)]) static_body_nodes_.push_back(i);
+    static_nodes_listed_ = true;
   }
   body_nodes_.clear();
   std::set_union(static_body_nodes_.begin(), static_body_nodes_.end(), moving.begin(), moving.end(),

@@ -112,6 +112,7 @@ class Solver {
   bool offset_bases_valid_ = false;
   // nodes where a rigid body is present, ascending (rigid_p2g): all bodies', and the static ones'
   std::vector<long> body_nodes_, static_body_nodes_;
+  bool static_nodes_listed_ = false;
   ContactTally<D> contact_tally_;
 };
 
