@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "../materials/material_fixtures.hpp"
+#include "block_deck.hpp"
 #include "scene_fixture.hpp"
 
 namespace fs = std::filesystem;
@@ -121,4 +122,23 @@ TEST(Instability, CompressionBeyondTheHugoniotFitStopsNamingParticleAndReason) {
   EXPECT_NE(msg.find("non-finite stress at J = 0.4"), std::string::npos) << msg;
   EXPECT_NE(msg.find("mu = rho/rho0 - 1 = 1.5 beyond the limit of the Mie-Grueneisen Hugoniot fit"), std::string::npos) << msg;
   EXPECT_NE(msg.find("1/(s1 - 1) = 0.7576"), std::string::npos) << msg;
+}
+
+// A moving rigid body that leaves the grid stops the run naming the body (its presence wrapped
+// to the next node row, or was written past the end of the grid's arrays, before).
+TEST(Instability, RigidBodyLeavingTheGridStopsTheRun) {
+  std::string deck = test::block_deck(100, 0.01);
+  deck += "[[rigid]]\nname = \"runaway\"\nmin = [\"0.01 mm\", \"0.2 mm\"]\nmax = [\"0.02 mm\", \"0.21 mm\"]\n"
+          "normal = [0, -1]\nvelocity = [\"2000 m/s\", \"0 m/s\"]\n";
+  testing::internal::CaptureStderr();  // it starts over block particles: stated, not refused
+  Scene<2> sc = test::scene_from(deck);
+  testing::internal::GetCapturedStderr();
+  Solver<2> solver(sc);
+  std::string msg;
+  try {
+    for (int s = 0; s < 1000; ++s) solver.step();
+  } catch (const InstabilityError& e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("rigid body 'runaway' left the grid"), std::string::npos) << "message: " << msg;
 }
