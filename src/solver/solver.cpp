@@ -312,7 +312,10 @@ void Solver<D>::mark_offset_bases() {
   auto& g = sc_.grid;
   offset_bases_valid_ = false;
   if constexpr (D == 2) {
-    if (sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0 || g.layers()) return;
+    // only the fused USL pass reads the mask
+    if (sc_.settings.integrator != Integrator::usl || sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0 ||
+        g.layers())
+      return;
     const double inv_h = 1.0 / g.h;
     const HalfWidth a(half_width_);
     for (const auto& body : sc_.bodies)
