@@ -91,23 +91,18 @@ Json hs_json(const HashinShtrikmanBounds& b) {
   return j;
 }
 
-std::vector<Phase> phases_of(const StudyRun& r, std::string& source) {
-  // run.json is re-read for "phases" (analysis.json keeps only what the analysis needs).
-  const fs::path rj = fs::path(r.dir) / "run.json";
-  const Json run = Json::read_file(rj.string());
-  if (const Json* ph = run.find("phases"); ph && ph->is_array()) {
-    std::vector<Phase> out;
-    for (const auto& p : ph->as_array()) {
-      out.push_back({p.find("bulk_modulus_Pa") ? p.find("bulk_modulus_Pa")->as_number(rj.string() + ": phases.bulk_modulus_Pa") : std::nan(""),
-                     p.find("shear_modulus_Pa") ? p.find("shear_modulus_Pa")->as_number(rj.string() + ": phases.shear_modulus_Pa") : std::nan(""),
-                     p.find("volume_fraction") ? p.find("volume_fraction")->as_number(rj.string() + ": phases.volume_fraction") : std::nan("")});
+std::vector<Phase> phases_of(const StudyRun& r, const StudyFitOptions& opt, std::string& source) {
+  std::string why = "no phase source given";
+  if (opt.run_phases) {
+    try {
+      return opt.run_phases(r, source);
+    } catch (const InputError& e) {
+      why = e.what();
     }
-    source = "run.json phases";
-    return out;
   }
   double phi = num(r.analysis, {"porosity"});
   if (!std::isfinite(phi)) phi = 0;
-  source = "paper Table 1 phases (run.json has no 'phases'), run porosity";
+  source = fmt::format("the paper's Table 1 phases at the run's porosity (the run's own: {})", why);
   return paper_phases(phi);
 }
 
@@ -391,7 +386,7 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   // Bounds from the run's own phases (first run), and for the pore-free composite (compare G^U, K^U).
   if (!runs.empty()) {
     std::string source;
-    std::vector<Phase> ph = phases_of(runs.front(), source);
+    std::vector<Phase> ph = phases_of(runs.front(), opt, source);
     Json b = Json::object();
     b.set("phases_source", source);
     b.set("run", runs.front().id);

@@ -2,6 +2,7 @@
 // Study-level results: every run of STUDY/study.json analysed, ensemble statistics per condition
 // (mean +- std over seeds), and the paper's constitutive fits (Eq. 13-15, 19-22) with confidence
 // intervals, plus Hashin-Shtrikman bounds. Written to fits.json for the report.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,8 @@
 #include "analysis/run_analysis.hpp"
 
 namespace pbx {
+
+struct StudyRun;
 
 struct StudyFitOptions {
   double T0_K = 293.0;
@@ -24,6 +27,10 @@ struct StudyFitOptions {
   // Use the finished runs of an incomplete study instead of refusing it; the runs left out are
   // returned by load_study and named in fits.json ("missing_runs") and at the top of the report.
   bool partial = false;
+  // The phases of a run for the Hashin-Shtrikman bounds, with a sentence saying where they come
+  // from (the study layer builds them from the run's own materials: study/run_phases.hpp). Unset,
+  // or throwing InputError: the paper's Table 1 phases, and the source says why.
+  std::function<std::vector<Phase>(const StudyRun&, std::string& source)> run_phases;
 };
 
 struct StudyRun {
@@ -49,9 +56,9 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt);
 // [{"id": ..., "why": ...}, ...]: the runs a partial fit or report left out (fits.json "missing_runs").
 Json missing_runs_json(const std::vector<MissingRun>& missing);
 
-// The phases of a run for the Hashin-Shtrikman bounds: run.json "phases" when present, else the
-// paper's Table 1 phases (TATB K = rho0 c0^2, G = 11.5 GPa; F2314 K = 0.33, G = 0.07 GPa) at
-// 95:5 mass ratio with the given porosity as a third phase.
+// The paper's Table 1 phases (TATB K = rho0 c0^2, G = 11.5 GPa; F2314 K = 0.33, G = 0.07 GPa) at 95:5
+// mass ratio with the given porosity as a third phase: the bounds' fallback when
+// StudyFitOptions::run_phases is unset or fails.
 std::vector<Phase> paper_phases(double porosity);
 
 // The paper's Table 3 refit (Eq. 13 by both methods), from the paper-values TOML.

@@ -21,6 +21,7 @@
 #include "core/parse_number.hpp"
 #include "core/units.hpp"
 #include "io/deck.hpp"
+#include "study/run_phases.hpp"
 
 namespace pbx::app {
 
@@ -188,6 +189,7 @@ void apply_study_flags(const StudyArgs& a, StudyFitOptions& o) {
   check_confidence(a.confidence);
   o.confidence = a.confidence;
   o.partial = a.partial;
+  o.run_phases = run_phases_for_bounds;
 }
 
 }  // namespace

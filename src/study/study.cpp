@@ -24,6 +24,7 @@
 #include "io/output_lock.hpp"
 #include "io/deck.hpp"
 #include "solver/runner.hpp"
+#include "study/run_phases.hpp"
 
 namespace pbx {
 
@@ -590,6 +591,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       ReportOptions rep;
       rep.fits.reuse_analysis = true;
       rep.fits.analysis = s.analysis;
+      rep.fits.run_phases = run_phases_for_bounds;
       const std::string dir = build_report(out.string(), rep);
       std::fprintf(stderr, "pbxmpm study: report in %s/report.html\n", dir.c_str());
     }

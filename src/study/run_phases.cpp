@@ -1,0 +1,97 @@
+#include "study/run_phases.hpp"
+
+#include <filesystem>
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "core/units.hpp"
+#include "io/deck.hpp"
+#include "materials/point_driver.hpp"
+
+namespace pbx {
+namespace {
+
+namespace fs = std::filesystem;
+
+const Json& member(const Json& j, const std::string& key, const std::string& file) {
+  const Json* v = j.find(key);
+  if (!v) throw InputError(fmt::format("{}: no \"{}\"", file, key));
+  return *v;
+}
+
+// Stress of one material point after a step of strain (L dt over a 1 fs jump) held for t_hold.
+Sym3 held_step_stress(const Material<3>& m, const Mat3& strain, double t_hold) {
+  constexpr double t_jump = 1e-15;  // short against any relaxation time (see drive_point's step_shear)
+  MaterialPoint<3> mp(m);
+  mp.step(strain / t_jump, t_jump);
+  if (t_hold > 0) mp.step(Mat3::Zero(), t_hold);
+  return mp.stress();
+}
+
+}  // namespace
+
+RunPhases run_phases(const StudyRun& run) {
+  const fs::path dir(run.dir);
+  const std::string rj_file = (dir / "run.json").string();
+  const Json rj = Json::read_file(rj_file);
+  RunPhases out;
+  out.temperature_K = member(rj, "temperature_K", rj_file).as_number(rj_file + ": temperature_K");
+  const Json& spec = member(rj, "specimen", rj_file);
+  if (!spec.is_object()) throw InputError(fmt::format("{}: \"specimen\" is null (the run has no die)", rj_file));
+  const double porosity = member(spec, "porosity", rj_file).as_number(rj_file + ": specimen.porosity");
+
+  const Json* window = run.analysis.find("linear_window");
+  const double lo = window && window->find("lo") ? window->find("lo")->as_number("linear_window.lo") : NAN;
+  const double hi = window && window->find("hi") ? window->find("hi")->as_number("linear_window.hi") : NAN;
+  if (!(std::isfinite(lo) && std::isfinite(hi)))
+    throw InputError(fmt::format("{}/analysis.json: no linear window (linear_window.lo/hi)", run.dir));
+
+  const Deck deck = Deck::from_file((dir / "deck.toml").string());
+  const DeckTable die = deck.root().table("die");
+  const double H = die.positive("height", dim::length), v = die.positive("punch_velocity", dim::velocity);
+  const double ramp = die.number("ramp_strain", 0.0);
+  // The punch ramps its speed up linearly over 2 ramp H / v, so strain e >= ramp is reached at (e + ramp) H / v.
+  out.load_time_s = (0.5 * (lo + hi) + ramp) * H / v;
+
+  const DeckTable materials = deck.root().table("materials");
+  const Json& mats = member(rj, "materials", rj_file);
+  double particles = 0;
+  for (const Json& m : mats.as_array()) particles += member(m, "particles", rj_file).as_number(rj_file + ": materials.particles");
+  if (!(particles > 0)) throw InputError(fmt::format("{}: the materials hold no particles", rj_file));
+  for (const Json& m : mats.as_array()) {
+    const std::string name = member(m, "name", rj_file).as_string(rj_file + ": materials.name");
+    const double n = member(m, "particles", rj_file).as_number();
+    const auto table = materials.optional_table(name);
+    if (!table) throw InputError(fmt::format("{}: run.json names material '{}', which the deck does not hold", deck.name(), name));
+    MaterialContext ctx;
+    ctx.temperature = out.temperature_K;
+    ctx.name = name;
+    const auto law = make_material<3>(*table, ctx);
+    constexpr double e = 1e-6;  // small against any yield strain, large against round-off
+    const Sym3 sv = held_step_stress(*law, Mat3::Identity() * (-e / 3.0), out.load_time_s);
+    Mat3 shear = Mat3::Zero();
+    shear(0, 1) = e;
+    const Sym3 ss = held_step_stress(*law, shear, out.load_time_s);
+    // ln J = -e: K = mean stress / ln J; engineering shear e: G = sigma_xy / e (to O(e)).
+    out.phases.push_back({name, sv.mean() / -e, ss.xy / e, (1.0 - porosity) * n / particles});
+  }
+  if (porosity > 0) out.phases.push_back({"pores", 0, 0, porosity});
+  return out;
+}
+
+std::vector<Phase> run_phases_for_bounds(const StudyRun& run, std::string& source) {
+  const RunPhases rp = run_phases(run);
+  std::vector<Phase> out;
+  std::string list;
+  for (const auto& p : rp.phases) {
+    out.push_back({p.bulk_modulus, p.shear_modulus, p.volume_fraction});
+    list += fmt::format("{}{} K {:.4g} GPa, G {:.4g} GPa, f {:.4f}", list.empty() ? "" : "; ", p.name,
+                        p.bulk_modulus / 1e9, p.shear_modulus / 1e9, p.volume_fraction);
+  }
+  source = fmt::format("the run's materials at {:g} K after a hold of {:.3g} s (the loading time to the middle of the "
+                       "linear window): {}",
+                       rp.temperature_K, rp.load_time_s, list);
+  return out;
+}
+
+}  // namespace pbx
