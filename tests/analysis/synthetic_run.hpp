@@ -32,6 +32,8 @@ struct SyntheticRun {
   // >= 0: a field_overlap_m2_per_m column growing by this share of the compaction (box area the
   // punch took) from 1e-12 m^2 per m
   double overlap_share = -1;
+  // KE/IE: 0.3 inside the ramp, then ke_ie_bump up to strain ke_ie_bump_until, then 0.01
+  double ke_ie_bump = 0.01, ke_ie_bump_until = 0;
 };
 
 inline double synthetic_axial(const SyntheticRun& s, double e) {
@@ -53,7 +55,7 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
     const double e = s.max_strain * i / (s.rows - 1);
     const double t = e / 250.0;
     const double sa = synthetic_axial(s, e), sl = k0 * sa;
-    const double ke_ie = e < s.ramp_strain ? 0.3 : 0.01;
+    const double ke_ie = e < s.ramp_strain ? 0.3 : e < s.ke_ie_bump_until ? s.ke_ie_bump : 0.01;
     h << fmt::format("{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,1,1,0,1,{},0\n",
                      i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl,
                      -sl * (1 + s.vol_bias), -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke_ie);

@@ -97,6 +97,29 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
   fs::remove_all(dir);
 }
 
+// KE/IE above the 5 % limit after the ramp is flagged, with the share of points above it; the
+// same bump at 4.9 % is not.
+TEST(RunAnalysis, KineticEnergyAboveTheLimitAfterTheRampIsFlagged) {
+  for (double bump : {0.06, 0.049}) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_test_keie_{}_{}", ::getpid(), bump);
+    fs::remove_all(dir);
+    pbx::test::SyntheticRun s;
+    s.ke_ie_bump = bump;
+    s.ke_ie_bump_until = 0.0015;  // 0.05-0.15 % strain: 20 of the 790 points after the ramp
+    pbx::test::write_synthetic_run(dir, s);
+    const Json a = analyze_run(dir.string(), AnalysisOptions{});
+    const Json& q = *a.find("quasi_static");
+    EXPECT_EQ(q.find("flagged")->as_bool(), bump > 0.05) << bump;
+    EXPECT_NEAR(q.find("ke_ie_max_after_ramp")->as_number(), bump, 1e-12);
+    if (bump > 0.05) {
+      const double share = q.find("fraction_above_limit")->as_number();
+      EXPECT_GT(share, 19.0 / 791);
+      EXPECT_LT(share, 22.0 / 789);
+    }
+    fs::remove_all(dir);
+  }
+}
+
 TEST(RunAnalysis, InterpenetrationShareAndFlag) {
   // The overlap grows by a known share of the compaction: the analysis gives it back at the end of
   // the run and of the linear window, flags it above overlap_limit, and reports null without the
