@@ -1,5 +1,6 @@
 #include "study/study.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include "io/deck.hpp"
 #include "solver/runner.hpp"
 #include "study/run_phases.hpp"
+#include "study/study_status.hpp"
 
 namespace pbx {
 
@@ -501,7 +503,18 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const fs::path dir = out / "runs" / r.id;
     ++done;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank, elapsed);
+    // Runs of the whole study finished so far, by every rank (read from the shared folder): each
+    // rank's own counter alone would not say how far the study is.
+    std::string study_done;
+    try {
+      const auto all = study_status(out.string());
+      const auto fin = std::count_if(all.begin(), all.end(), [](const RunStatus& x) { return x.state == "finished"; });
+      study_done = fmt::format("{}/{} runs of the study finished", fin, all.size());
+    } catch (const std::exception& e) {
+      study_done = fmt::format("study status unreadable: {}", e.what());
+    }
+    std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %s, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank,
+                 study_done.c_str(), elapsed);
     try {
       fs::create_directories(dir);
       const std::string text = run_deck_text(s, r);
@@ -519,8 +532,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       ro.deck_text = text;
       ro.deck_name = (dir / "deck.toml").string();
       ro.checkpoint_every = opt.checkpoint_every;
-      ro.progress_label = mpi.size > 1 ? fmt::format("run {}/{} of rank {}", done, mine, mpi.rank)
-                                       : fmt::format("run {}/{}", done, mine);
+      ro.progress_label = mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
+                                       : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
       ro.runs_after = mine - done;
       double mass = 0;
       for (double m : scene.particles.mass) mass += m;

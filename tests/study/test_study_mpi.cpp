@@ -436,15 +436,19 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
   if (!HasFailure()) fs::remove_all(dir);
 }
 
-// Without a terminal, the progress lines of a study's runs name the run and the study's ETA.
+// Without a terminal, the progress lines of a study's runs name the run and the study's ETA, and
+// the line that starts a run says how many of the study's runs have finished.
 TEST(Study, ProgressLinesNameTheRunAndTheStudyEta) {
   const fs::path dir = make_study();
   const std::string cmd = "OMP_NUM_THREADS=1 " + std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() +
                           " --out " + (dir / "out").string() + " --no-report > " + (dir / "log").string() + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "log");
   const std::string log = slurp(dir / "log");
-  EXPECT_NE(log.find("(run 1/2, study ETA "), std::string::npos) << log;
-  EXPECT_NE(log.find("(run 2/2, study ETA "), std::string::npos) << log;
+  EXPECT_NE(log.find("(run 1/2, 2 runs in the study, study ETA "), std::string::npos) << log;
+  EXPECT_NE(log.find("(run 2/2, 2 runs in the study, study ETA "), std::string::npos) << log;
+  // The line starting each run counts the study's finished runs, read from the folder.
+  EXPECT_NE(log.find("(rank 0, 0/2 runs of the study finished, "), std::string::npos) << log;
+  EXPECT_NE(log.find("(rank 0, 1/2 runs of the study finished, "), std::string::npos) << log;
   if (!HasFailure()) fs::remove_all(dir);
 }
 
