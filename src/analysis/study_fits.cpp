@@ -10,6 +10,7 @@
 #include <toml++/toml.h>
 
 #include "analysis/density_law.hpp"
+#include "analysis/report_files.hpp"
 #include "analysis/ensemble.hpp"
 #include "analysis/normalized_curve_law.hpp"
 #include "analysis/temperature_law.hpp"
@@ -108,7 +109,7 @@ std::vector<Phase> phases_of(const StudyRun& r, const StudyFitOptions& opt, std:
 
 }  // namespace
 
-std::string default_paper_values_path() { return std::string(PBXMPM_SOURCE_DIR) + "/tools/report/paper_values.toml"; }
+std::string default_paper_values_path() { return report_file("paper_values.toml"); }
 
 std::vector<Phase> paper_phases(double porosity) {
   const double rho_t = 1934, rho_b = 2020, c0 = 2340;

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "analysis/report_files.hpp"
 #include "core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -30,8 +31,7 @@ std::string build_report(const std::string& study_dir, const ReportOptions& opt)
   fs::create_directories(out);
   fits.write_file((out / "fits.json").string());
 
-  const std::string script =
-      opt.script.empty() ? std::string(PBXMPM_SOURCE_DIR) + "/tools/report/make_report.py" : opt.script;
+  const std::string script = opt.script.empty() ? report_file("make_report.py") : opt.script;
   if (!fs::exists(script)) throw InputError(fmt::format("report script '{}' not found", script));
   if (!fs::exists(opt.python)) {
     throw InputError(fmt::format("python '{}' not found (install python3-numpy python3-matplotlib: scripts/install-deps)",

@@ -10,7 +10,7 @@ namespace pbx {
 struct ReportOptions {
   StudyFitOptions fits;
   std::string python = "/usr/bin/python3";  // Debian's python, which has numpy/matplotlib/h5py
-  std::string script;                       // default: <source>/tools/report/make_report.py
+  std::string script;                       // default: report_file("make_report.py") (analysis/report_files.hpp)
   std::string out_dir;                      // default: STUDY/report
 };
 

@@ -4,6 +4,8 @@
 #include <string>
 #include <fstream>
 
+#include <fmt/format.h>
+
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -65,6 +67,27 @@ fs::path make_study(const std::string& name, bool study_format = false) {
 }
 const ReportOptions kOptions;
 }  // namespace
+
+// `cmake --install` puts pbxmpm in P/bin and the report's files in P/share/pbxmpm/report: the
+// installed binary must use those (here a copy whose script leaves a mark), not the source tree.
+TEST(StudyReport, AnInstalledBinaryUsesItsInstalledReportFiles) {
+  const fs::path dir = make_study("installed");
+  const fs::path prefix = dir / "prefix";
+  fs::create_directories(prefix / "bin");
+  fs::create_directories(prefix / "share" / "pbxmpm" / "report");
+  fs::copy_file(PBXMPM_BINARY, prefix / "bin" / "pbxmpm");
+  const fs::path src = fs::path(PBXMPM_SOURCE_DIR) / "tools" / "report";
+  fs::copy_file(src / "paper_values.toml", prefix / "share" / "pbxmpm" / "report" / "paper_values.toml");
+  fs::copy_file(src / "make_report.py", prefix / "share" / "pbxmpm" / "report" / "make_report.py");
+  std::ofstream(prefix / "share" / "pbxmpm" / "report" / "make_report.py", std::ios::app)
+      << "\nopen(os.path.join(sys.argv[sys.argv.index('--out') + 1], 'installed_copy_ran'), 'w').close()\n";
+  const std::string cmd = fmt::format("env -u PBXMPM_REPORT_DIR '{}' report '{}' > '{}' 2>&1", (prefix / "bin" / "pbxmpm").string(),
+                                      dir.string(), (dir / "log").string());
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_TRUE(fs::exists(dir / "report" / "installed_copy_ran"));
+  EXPECT_TRUE(fs::exists(dir / "report" / "report.md"));
+  if (!HasFailure()) fs::remove_all(dir);
+}
 
 TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   const fs::path dir = make_study("complete");
