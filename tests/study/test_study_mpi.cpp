@@ -1,5 +1,5 @@
 // A study run under `mpirun -n 2` gives the same results as the sequential run (each rank runs
-// whole runs; the engine is deterministic), resumes by skipping finished runs, and names bad keys.
+// whole runs; the engine is deterministic: histories, analyses and study fits alike), resumes by skipping finished runs, and names bad keys.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -133,6 +133,23 @@ TEST(Study, MpiTwoRanksEqualsSequentialAndResumes) {
     // the two ranks each ran one run
   }
   EXPECT_NE(slurp(dir / "mpi.log").find("rank 1"), std::string::npos) << slurp(dir / "mpi.log");
+  // ... and so do their analyses and the study's fits (per-condition statistics, fitted laws)
+  for (const auto& r : s.runs) {
+    const Json a = Json::read_file((dir / "seq" / "runs" / r.id / "analysis.json").string());
+    const Json b = Json::read_file((dir / "mpi" / "runs" / r.id / "analysis.json").string());
+    for (const char* key : {"moduli", "moduli_volume_average", "strength", "quasi_static", "linear_window"})
+      EXPECT_EQ(a.find(key)->dump(), b.find(key)->dump()) << r.id << " " << key;
+  }
+  for (const char* study : {"seq", "mpi"}) {
+    const std::string fit = fmt::format("'{}' fit study '{}' --out '{}' > /dev/null 2>&1", PBXMPM_BINARY,
+                                        (dir / study).string(), (dir / (std::string(study) + "_fits.json")).string());
+    ASSERT_EQ(std::system(fit.c_str()), 0) << fit;
+  }
+  const Json fa = Json::read_file((dir / "seq_fits.json").string());
+  const Json fb = Json::read_file((dir / "mpi_fits.json").string());
+  ASSERT_NE(fa.find("conditions"), nullptr);
+  EXPECT_EQ(fa.find("conditions")->dump(), fb.find("conditions")->dump());
+  EXPECT_EQ(fa.find("density_law")->dump(), fb.find("density_law")->dump());
   fs::remove_all(dir);
 }
 
