@@ -80,9 +80,18 @@ void set_confidence_intervals(FitResult& fit, const Eigen::MatrixXd& J) {
   if (fit.dof > 0) {
     t = student_t_quantile(0.5 * (1.0 + fit.confidence), fit.dof);
     const double s2 = fit.sse / fit.dof;
-    Eigen::MatrixXd JtJ = J.transpose() * J;
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(JtJ);
-    if (lu.isInvertible()) cov = s2 * lu.inverse();
+    // Columns scaled to unit norm first: with sigma0 in Pa (~1e8) beside an alpha of ~0.3, J^T J
+    // spans 15 decades and the LU's relative pivot threshold declared it singular (the full study's
+    // Eq. 13 fit came out without intervals). The scaling leaves the covariance unchanged.
+    Eigen::VectorXd scale(p);
+    for (int k = 0; k < p; ++k) {
+      const double norm = J.col(k).norm();
+      scale(k) = norm > 0 ? 1.0 / norm : 0.0;
+    }
+    const Eigen::MatrixXd Js = J * scale.asDiagonal();
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(Js.transpose() * Js);
+    if (lu.isInvertible() && (scale.array() > 0).all())
+      cov = s2 * scale.asDiagonal() * lu.inverse() * scale.asDiagonal();
   }
   for (int k = 0; k < p; ++k) {
     auto& q = fit.params[std::size_t(k)];

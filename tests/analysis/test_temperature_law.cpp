@@ -38,3 +38,20 @@ TEST(TemperatureLaw, RefitOfPaperTable3) {
   EXPECT_GT(nl["alpha"].ci_high, 2.357);
   EXPECT_LT(ll["sigma0"].ci_low, ll["sigma0"].value);
 }
+
+// The full study's strengths (2.5 um, 2026-12-03): 190 MPa falling by 7 % to 373 K, so alpha = 0.27
+// beside sigma0 = 1.9e8 Pa. Their J^T J spans 15 decades; the intervals must still come out, match
+// the log-linear fit's to the order of magnitude, and contain the estimate.
+TEST(TemperatureLaw, IntervalsOfAWeakTemperatureDependenceInPascals) {
+  const std::vector<double> s{189.90e6, 184.04e6, 178.9e6, 177.0e6};
+  const FitResult nl = fit_temperature_law_nonlinear(kT, s, 293);
+  const FitResult ll = fit_temperature_law_loglinear(kT, s, 293);
+  for (const char* k : {"sigma0", "alpha"}) {
+    ASSERT_TRUE(std::isfinite(nl[k].ci_low) && std::isfinite(nl[k].ci_high)) << k;
+    EXPECT_LT(nl[k].ci_low, nl[k].value) << k;
+    EXPECT_GT(nl[k].ci_high, nl[k].value) << k;
+    const double w_nl = nl[k].ci_high - nl[k].ci_low, w_ll = ll[k].ci_high - ll[k].ci_low;
+    EXPECT_GT(w_nl / w_ll, 0.5) << k;
+    EXPECT_LT(w_nl / w_ll, 2.0) << k;
+  }
+}
