@@ -2,6 +2,7 @@
 // Hashin-Shtrikman bounds on the effective bulk and shear moduli of an isotropic mixture of
 // isotropic phases (3-D; Berryman's form, valid for any number of phases and for phases that are
 // not well ordered). Pores are a phase with K = G = 0, which makes the lower bounds zero.
+#include <string>
 #include <vector>
 
 namespace pbx {
@@ -10,6 +11,7 @@ struct Phase {
   double bulk_modulus = 0;   // Pa
   double shear_modulus = 0;  // Pa
   double volume_fraction = 0;
+  std::string name;  // for reports only (e.g. the deck's material name, "pores")
 };
 
 struct HashinShtrikmanBounds {

@@ -115,8 +115,9 @@ std::vector<Phase> paper_phases(double porosity) {
   const double rho_t = 1934, rho_b = 2020, c0 = 2340;
   const double vt = 0.95 / rho_t, vb = 0.05 / rho_b;
   const double solid = 1.0 - porosity;
-  std::vector<Phase> ph{{rho_t * c0 * c0, 11.5e9, solid * vt / (vt + vb)}, {0.33e9, 0.07e9, solid * vb / (vt + vb)}};
-  if (porosity > 0) ph.push_back({0, 0, porosity});
+  std::vector<Phase> ph{{rho_t * c0 * c0, 11.5e9, solid * vt / (vt + vb), "TATB"},
+                        {0.33e9, 0.07e9, solid * vb / (vt + vb), "F2314"}};
+  if (porosity > 0) ph.push_back({0, 0, porosity, "pores"});
   return ph;
 }
 

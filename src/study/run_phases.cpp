@@ -1,6 +1,7 @@
 #include "study/run_phases.hpp"
 
 #include <filesystem>
+#include <utility>
 #include <fmt/format.h>
 
 #include "core/error.hpp"
@@ -73,25 +74,23 @@ RunPhases run_phases(const StudyRun& run) {
     shear(0, 1) = e;
     const Sym3 ss = held_step_stress(*law, shear, out.load_time_s);
     // ln J = -e: K = mean stress / ln J; engineering shear e: G = sigma_xy / e (to O(e)).
-    out.phases.push_back({name, sv.mean() / -e, ss.xy / e, (1.0 - porosity) * n / particles});
+    out.phases.push_back({sv.mean() / -e, ss.xy / e, (1.0 - porosity) * n / particles, name});
   }
-  if (porosity > 0) out.phases.push_back({"pores", 0, 0, porosity});
+  if (porosity > 0) out.phases.push_back({0, 0, porosity, "pores"});
   return out;
 }
 
 std::vector<Phase> run_phases_for_bounds(const StudyRun& run, std::string& source) {
-  const RunPhases rp = run_phases(run);
-  std::vector<Phase> out;
+  RunPhases rp = run_phases(run);
   std::string list;
   for (const auto& p : rp.phases) {
-    out.push_back({p.bulk_modulus, p.shear_modulus, p.volume_fraction});
     list += fmt::format("{}{} K {:.4g} GPa, G {:.4g} GPa, f {:.4f}", list.empty() ? "" : "; ", p.name,
                         p.bulk_modulus / 1e9, p.shear_modulus / 1e9, p.volume_fraction);
   }
   source = fmt::format("the run's materials at {:g} K after a hold of {:.3g} s (the loading time to the middle of the "
                        "linear window): {}",
                        rp.temperature_K, rp.load_time_s, list);
-  return out;
+  return std::move(rp.phases);
 }
 
 }  // namespace pbx

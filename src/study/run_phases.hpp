@@ -14,15 +14,8 @@
 
 namespace pbx {
 
-struct RunPhase {
-  std::string name;            // the deck's material name, or "pores"
-  double bulk_modulus = 0;     // Pa
-  double shear_modulus = 0;    // Pa
-  double volume_fraction = 0;  // of the die's box
-};
-
 struct RunPhases {
-  std::vector<RunPhase> phases;
+  std::vector<Phase> phases;  // named by the deck's material names, and "pores"; fractions of the die's box
   double temperature_K = 0;
   double load_time_s = 0;  // t_load above
 };

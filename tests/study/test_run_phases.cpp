@@ -69,7 +69,7 @@ TEST(RunPhases, ModuliAtTheRunTemperatureAndLoadingTime) {
   EXPECT_EQ(rp.temperature_K, 333);
   ASSERT_EQ(rp.phases.size(), 3u);
 
-  const RunPhase& b = rp.phases[0];
+  const Phase& b = rp.phases[0];
   EXPECT_EQ(b.name, "binder");
   const double aT = std::exp(100e3 / 8.31446261815324 * (1.0 / 333 - 1.0 / 293));
   double G = 10e6;
@@ -80,7 +80,7 @@ TEST(RunPhases, ModuliAtTheRunTemperatureAndLoadingTime) {
   EXPECT_NEAR(b.bulk_modulus, K, 1e-5 * K);
   EXPECT_NEAR(b.volume_fraction, 0.09, 1e-12);
 
-  const RunPhase& g = rp.phases[1];
+  const Phase& g = rp.phases[1];
   EXPECT_EQ(g.name, "grain");
   EXPECT_NEAR(g.bulk_modulus, 1e9 / 1.5, 1e-5 * 1e9);
   EXPECT_NEAR(g.shear_modulus, 0.4e9, 1e-5 * 0.4e9);

@@ -196,11 +196,11 @@ def refit_verdict(nl, ll, pf):
         parts.append((lab, s_ok, a_ok, a_in))
     s_by = [lab for lab, s_ok, _, _ in parts if s_ok]
     a_by = [lab for lab, _, a_ok, _ in parts if a_ok]
-    a_in = [lab for lab, _, _, inside in parts if inside]
+    a_inside = [lab for lab, _, _, inside in parts if inside]
     txt = (f"The paper reports σ0 = {pf['sigma0_MPa']:.2f} MPa and α = {pf['alpha']}: its σ0 is reproduced (to 0.5 %) by "
            f"{' and '.join(s_by) if s_by else 'neither method'}; its α = {pf['alpha']} is reproduced by "
            f"{' and '.join(a_by) if a_by else 'neither method'}")
-    txt += (f" (it lies inside the confidence interval of {' and '.join(a_in)})." if a_in and not a_by
+    txt += (f" (it lies inside the confidence interval of {' and '.join(a_inside)})." if a_inside and not a_by
             else " (nor inside either fit's confidence interval)." if not a_by else ".")
     return txt
 
