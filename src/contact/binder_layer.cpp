@@ -41,9 +41,14 @@ LayerLaw read_layer_law(const DeckTable& t) {
   law.friction = t.number("friction");
   if (!(law.friction >= 0.0)) t.fail("friction", fmt::format("friction coefficient must be >= 0, got {}", law.friction));
   law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
+  if (t.has("shear_cap")) {
+    const std::string cap = t.string("shear_cap");
+    if (cap != "coulomb" && cap != "none") t.fail("shear_cap", fmt::format("must be 'coulomb' or 'none', got '{}'", cap));
+    law.shear_cap = cap == "coulomb";
+  }
   const bool direct = t.has("normal_stiffness") || t.has("shear_stiffness");
   if (direct) {
-    for (const char* k : {"binder", "thickness", "load_time", "closure"})
+    for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure"})
       if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
     law.time = {0.0};
     law.normal = {t.positive("normal_stiffness", kStiffnessPerArea)};
@@ -51,8 +56,21 @@ LayerLaw read_layer_law(const DeckTable& t) {
     return law;
   }
   law.binder = t.string("binder");
-  law.thickness = t.positive("thickness", dim::length);
-  law.closure = t.number("closure", 0.5);
+  std::string how;
+  try {
+    how = t.string("thickness");
+  } catch (const InputError&) {  // a length with its unit, or a plain number in metres
+  }
+  if (how == "coats") {
+    law.from_coats = true;
+    law.coat_scale = t.number("coat_scale", 1.0);
+    if (!(law.coat_scale > 0.0 && std::isfinite(law.coat_scale)))
+      t.fail("coat_scale", fmt::format("must be > 0, got {}", law.coat_scale));
+  } else {
+    if (t.has("coat_scale")) t.fail("coat_scale", "applies only with thickness = \"coats\"");
+    law.thickness = t.positive("thickness", dim::length);
+  }
+  law.closure = t.number("closure", 1.0);
   if (!(law.closure > 0.0 && law.closure <= 1.0)) t.fail("closure", fmt::format("must lie in (0, 1], got {}", law.closure));
   if (t.has("load_time")) {
     std::string word;
@@ -88,8 +106,8 @@ void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, con
                                        "G = {:.4g} Pa)", law.binder, axial[k].time, M, G));
     // the first sample stands for t -> 0 (the instantaneous moduli, to within one probe step)
     law.time.push_back(k == 1 ? 0.0 : axial[k].time);
-    law.normal.push_back(M / law.thickness);
-    law.shear.push_back(G / law.thickness);
+    law.normal.push_back(M);
+    law.shear.push_back(G);
   }
   if (!elapsed) {  // one value: the secant over the fixed load time
     law.time = {0.0};

@@ -18,25 +18,33 @@ namespace pbx {
 class DeckTable;
 
 struct LayerLaw {
-  // Stiffness per unit area against time: D_n(t_k), D_t(t_k), Pa/m; one entry = constant.
+  // The law's table against time: with a binder, its secant moduli M_b(t_k), G_b(t_k) in Pa (the
+  // node divides by the local layer thickness: each bonded particle carries 1/t of its contact);
+  // with normal_stiffness/shear_stiffness, D_n, D_t in Pa/m (the particles then carry 1).
+  // One entry = constant.
   std::vector<double> time, normal, shear;
-  double friction = 0;       // Coulomb coefficient where the layer does not act (fallback law)
-  double thickness = 0;      // t, m (0: stiffnesses given directly)
-  double closure = 0;        // the layer is squeezed out when the normal closure exceeds closure * t
+  double friction = 0;       // Coulomb coefficient: the shear cap on the layer (Eq. 7, S_a = 0) and
+                             // the law where the layer does not act
+  double thickness = 0;      // t, m: one thickness for every contact (0: from the coats, or stiffnesses given)
+  bool from_coats = false;   // t of a contact = coat_i + coat_j of its two grains (packed specimens)
+  double coat_scale = 1.0;   // t = coat_scale (coat_i + coat_j) with from_coats
+  double closure = 1.0;      // the layer is squeezed out when the normal closure exceeds closure * t
+  bool shear_cap = true;     // layer shear traction <= friction x compressive normal traction (Eq. 7)
   double bond_gap = 0;       // grains whose particles come this close (beyond touching) are bonded, m
   std::string binder;        // material whose moduli make D_n, D_t ("" when given directly)
   double load_time = 0;      // s: secant over this fixed time; 0 = over the elapsed run time
-  // Current values (at_time).
+  // Current values (at_time): multiplied by the node's mean 1/t, the stiffnesses per unit area.
   double kn = 0, kt = 0;
 
-  // Sets kn, kt to the stiffnesses at time t (linear interpolation in the table; beyond its
-  // last time the last value, which build_scene puts past the run's end time).
+  // Sets kn, kt to the table's values at time t (linear interpolation; beyond its last time the
+  // last value, which build_scene puts past the run's end time).
   void at_time(double t);
 };
 
 // Reads the law's own keys from a [[contact.pair]] table with law = "binder_layer": friction
-// (required), then either normal_stiffness and shear_stiffness (Pa/m), or binder, thickness,
-// load_time ("elapsed" by default) and closure (0.5); bond_gap (0). The binder moduli are filled
+// (required), shear_cap ("coulomb" or "none"), then either normal_stiffness and shear_stiffness
+// (Pa/m), or binder, thickness (a length, or "coats" with coat_scale), load_time ("elapsed" by
+// default) and closure (1); bond_gap (0). The binder moduli are filled
 // in later by layer_moduli (they need the material and the run's temperature and duration).
 LayerLaw read_layer_law(const DeckTable& t);
 

@@ -132,7 +132,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
         Vec<D> Xr = Vec<D>::Zero();  // binder_layer sums of the rest
         Mat<D> Fr = Mat<D>::Zero();
         Vec<D> Nr = Vec<D>::Zero();
-        double br = 0;
+        double br = 0, tr = 0;
         int partner = -1;
         double mpartner = -1;
         for (int b : present) {
@@ -146,6 +146,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             Xr += grid.mref[kb];
             Fr += grid.mdef[kb];
             br += grid.mbond[kb];
+            tr += grid.minvt[kb];
             Nr += grid.mnorm[kb];
           }
           if (grid.mass[kb] > mpartner) {
@@ -182,7 +183,10 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
           const double gln = 0.5 * std::abs((grid.vgrad[ka] - gr).dot(nu));
           // A node without interface area (gln = 0: the particles' normals cancel) has no spring
           // to act: Coulomb below, as for a squeezed-out layer (it used to get no contact at all).
-          const bool squeezed = L.thickness > 0.0 && -jump.dot(nu) > L.closure * L.thickness;
+          // The layer's 1/t at the node: the mean over the bonded particles of both sides (each
+          // carries its contact's 1/t; a direct-stiffness law carries 1).
+          const double inv_t = (grid.minvt[ka] + tr) / (grid.mbond[ka] + br);
+          const bool squeezed = L.binder.empty() ? false : -jump.dot(nu) * inv_t > L.closure;
           if (gln > 0.0 && !squeezed) {
             if (!after_update) continue;  // the fields move on their own until the spring acts
             // Backward Euler in the jump: the impulse J that the spring exerts over the step with
@@ -194,14 +198,22 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             const Vec<D> sv = jump + dt * (pr / mr - pa / ma);
             const double sn = sv.dot(n);
             const Vec<D> st = sv - sn * n;
-            const double kn = area * L.kn, kt = area * L.kt;
+            const double kn = area * L.kn * inv_t, kt = area * L.kt * inv_t;
             const double cn = 1.0 / (1.0 + kn * dt * dt / mred), ct = 1.0 / (1.0 + kt * dt * dt / mred);
             const double Jn = dt * kn * cn * sn;
-            const Vec<D> Jt = (dt * kt * ct) * st;
+            Vec<D> Jt = (dt * kt * ct) * st;
+            // Eq. 7 with S_a = 0 on the layer: its shear traction is at most friction x its
+            // compressive normal traction (sn < 0: r closes on a), none in tension. The cap acts on
+            // the spring's total tangential jump (a node keeps no slip history), so the capped
+            // response is nonlinear elastic: it dissipates nothing, and unloading follows it back.
+            if (L.shear_cap) {
+              const double cap = sn < 0.0 ? L.friction * std::abs(Jn) : 0.0, jt = Jt.norm();
+              if (jt > cap) Jt *= jt > 0.0 ? cap / jt : 0.0;
+            }
             d = Jn * n + Jt;
             book(a, partner, d, std::abs(Jn), Jt.norm());
-            // energy held at the end of the step (jumps s cn, st ct); half per side of the pair
-            out.energy += 0.25 * (kn * sn * sn * cn * cn + kt * st.squaredNorm() * ct * ct);
+            // energy held at the end of the step, F^2 / 2k per spring with F = J/dt; half per side
+            out.energy += 0.25 * (kn * sn * sn * cn * cn + (kt > 0.0 ? Jt.squaredNorm() / (dt * dt * kt) : 0.0));
             continue;
           }
         }

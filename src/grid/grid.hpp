@@ -34,6 +34,7 @@ struct Grid {
   std::vector<Mat<D>> mdef;
   std::vector<double> mbond;
   std::vector<Vec<D>> mnorm;  // sum S m F^-T N0: the field's contact normal (towards the other side)
+  std::vector<double> minvt;  // sum S m bonded_p / t_p: with mbond, the node's mean 1/t (pair thicknesses differ)
   bool layers() const { return !mbond.empty(); }
   // Per rigid field and node: the body's presence (sum of S_ip over its rigid particles), at
   // (field - deformable)*nodes()+i.
@@ -77,6 +78,7 @@ struct Grid {
     mdef.assign(size, Mat<D>::Zero());
     mbond.assign(size, 0.0);
     mnorm.assign(size, Vec<D>::Zero());
+    minvt.assign(size, 0.0);
   }
 };
 

@@ -30,6 +30,7 @@ struct Particles {
   std::vector<Vec<D>> X0;              // m
   std::vector<std::uint8_t> bonded;    // 0 or 1
   std::vector<Vec<D>> N0;              // bonded: unit normal of its contact, towards the other grain
+  std::vector<double> layer_inv_t;     // bonded: 1 / thickness of its contact's layer, 1/m (0 if not bonded)
 
   std::size_t size() const { return x.size(); }
 
@@ -64,6 +65,7 @@ struct Particles {
     if (!X0.empty()) permute(X0);
     if (!bonded.empty()) permute(bonded);
     if (!N0.empty()) permute(N0);
+    if (!layer_inv_t.empty()) permute(layer_inv_t);
   }
 
   std::size_t add(const Vec<D>& pos, double vol, double m, int mat, int fld) {

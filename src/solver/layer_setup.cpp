@@ -101,36 +101,59 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
   };
   const CellBuckets<D> cells(sc.grid, P.x);
-  // touching particles and their contact normal (the mean direction to the touching particles
-  // of the other side)
+  // touching particles, their contact normal (the mean direction to the touching particles of
+  // the other side) and their layer's thickness (the two grains' coats with thickness = "coats")
+  const bool coats = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.from_coats; });
+  if (coats && sc.grain_coat.size() != np)
+    root.table("contact").fail("pair", "binder_layer thickness = \"coats\" needs a packed specimen ([specimen] with [packing] "
+                                       "or specimen.packing_dir): the coats come from its grains");
+  const auto pair_law = [&](int a, int b) -> const LayerLaw& { return cm.layers[static_cast<std::size_t>(cm(a, b).layer)]; };
   std::vector<std::uint8_t> touching(np, 0);
   std::vector<Vec<D>> toward(np, Vec<D>::Zero());
+  std::vector<double> inv_t(np, 0.0);
   const long touch_cells = static_cast<long>(std::ceil(touch_r / h)), bond_cells = static_cast<long>(std::ceil(bond_r / h));
 #pragma omp parallel for schedule(static)
   for (std::size_t p = 0; p < np; ++p) {
     Vec<D> sum = Vec<D>::Zero();
+    double scale_sum = 0;
+    int n = 0;
     cells.any_near(P.x[p], touch_cells, [&](std::uint32_t q) {
       const Vec<D> d = P.x[q] - P.x[p];
-      if (layer_pair(P.field[p], P.field[q]) && d.norm() <= touch_r) sum += d / d.norm();
+      if (layer_pair(P.field[p], P.field[q]) && d.norm() <= touch_r) {
+        sum += d / d.norm();
+        const LayerLaw& L = pair_law(P.field[p], P.field[q]);
+        // 1/t of this contact: the mean over the touching particles is the harmonic mean of t
+        scale_sum += L.from_coats  ? 1.0 / (L.coat_scale * (sc.grain_coat[p] + sc.grain_coat[q]))
+                     : L.thickness > 0.0 ? 1.0 / L.thickness
+                                         : 1.0;  // stiffnesses given per area directly
+        ++n;
+      }
       return false;
     });
     const double len = sum.norm();
     touching[p] = len > 0.0;
-    if (len > 0.0) toward[p] = sum / len;
+    if (len > 0.0) toward[p] = sum / len, inv_t[p] = scale_sum / n;
   }
+  for (std::size_t p = 0; p < np; ++p)
+    if (touching[p] && !(std::isfinite(inv_t[p]) && inv_t[p] > 0.0))
+      root.table("contact").fail("pair", fmt::format("binder_layer: particle {} at ({:.4g}, {:.4g}) m touches a grain with no "
+                                                     "binder coat (zero layer thickness)", p, P.x[p][0], P.x[p][1]));
   // bonded particles: within two cells of a touching particle of their own field; their normal
-  // is the mean of those particles' normals
+  // and 1/t are the means of those particles'
   P.N0.assign(np, Vec<D>::Zero());
+  P.layer_inv_t.assign(np, 0.0);
 #pragma omp parallel for schedule(static)
   for (std::size_t p = 0; p < np; ++p) {
     Vec<D> sum = Vec<D>::Zero();
+    double scale_sum = 0;
+    int n = 0;
     cells.any_near(P.x[p], bond_cells, [&](std::uint32_t q) {
-      if (touching[q] && P.field[q] == P.field[p] && (P.x[q] - P.x[p]).norm() <= bond_r) sum += toward[q];
+      if (touching[q] && P.field[q] == P.field[p] && (P.x[q] - P.x[p]).norm() <= bond_r) sum += toward[q], scale_sum += inv_t[q], ++n;
       return false;
     });
     const double len = sum.norm();
     P.bonded[p] = len > 0.0;
-    if (len > 0.0) P.N0[p] = sum / len;
+    if (len > 0.0) P.N0[p] = sum / len, P.layer_inv_t[p] = scale_sum / n;
   }
 }
 

@@ -50,7 +50,7 @@ int int_in(const DeckTable& t, const std::string& key, long lo, long hi, long de
 // particle, grid included, at 2 x 2 particles per cell).
 constexpr double kGridBytesPerNodeField = 120, kParticleBytes = 300;
 // binder_layer sums: reference offset, deformation gradient, bond mass (2-D: 2 + 4 + 1 doubles)
-constexpr double kLayerBytesPerNodeField = 8.0 * 13;
+constexpr double kLayerBytesPerNodeField = 8.0 * 14;
 
 double physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
@@ -316,6 +316,7 @@ Scene<D> build_scene(const Deck& deck) {
                                : field_of(fields == "single" ? sc.material_names[grain_mat]
                                                              : fmt::format("{}_{}", sc.material_names[grain_mat], seed.colour));
         sc.particles.add(seed.x, seed.volume, seed.volume * sc.materials[mat]->density(), mat, fld);
+        sc.grain_coat.push_back(grain && seed.grain >= 0 ? packing.grains[static_cast<std::size_t>(seed.grain)].coat : 0.0);
       }
       // The particles hold the packing to within their rasterisation: say when the specimen the
       // run computes misses the packing's porosity by more than the packer's default tolerance
@@ -524,6 +525,7 @@ Scene<D> build_scene(const Deck& deck) {
     }
     sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
     setup_binder_layers(sc, root);
+    std::vector<double>().swap(sc.grain_coat);  // only the layers' setup reads it
   }
 
   check_fits(gt, "cell_size",
@@ -561,6 +563,11 @@ void order_by_strip(Scene<D>& sc) {
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
     P.reorder(order);
+    if (!sc.grain_coat.empty()) {
+      std::vector<double> coat(np);
+      for (std::size_t k = 0; k < np; ++k) coat[k] = sc.grain_coat[order[k]];
+      sc.grain_coat = std::move(coat);
+    }
   }
   // batches in the new storage order; a particle's history row moves with it (slot = old row)
   for (std::size_t m = 0; m < sc.material_state.size(); ++m) {

@@ -69,6 +69,9 @@ struct Scene {
   ContactMatrix contact;  // laws between deformable fields ([contact] table; all weld by default)
   std::optional<Die> die;
   std::optional<PackingStats> packing_stats;  // geometric statistics of a packed specimen
+  // Per particle in creation order, packed specimens only: the binder coat of the particle's
+  // grain, m (0 for binder particles); read by setup_binder_layers (thickness = "coats"), then freed.
+  std::vector<double> grain_coat;
   std::string description;
 };
 

@@ -169,6 +169,7 @@ void Solver<D>::reset_grid() {
       g.mref[k].setZero();
       g.mdef[k].setZero();
       g.mbond[k] = 0.0;
+      g.minvt[k] = 0.0;
       g.mnorm[k].setZero();
     }
   }

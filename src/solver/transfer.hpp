@@ -32,11 +32,13 @@ inline void scatter_layer_row(Grid<D>& g, const Particles<D>& P, std::uint32_t p
   const Vec<D> xj = mj * (P.X0[p] - g.origin);
   const Mat<D> fj = mj * P.F[p];
   const double bj = mj * P.bonded[p];
+  const double tj = mj * P.layer_inv_t[p];
   const Vec<D> nj = mj * normal;
   for (int i = 0; i < 3; ++i) {
     g.mref[off + r + i] += wx[i] * xj;
     g.mdef[off + r + i] += wx[i] * fj;
     g.mbond[off + r + i] += wx[i] * bj;
+    g.minvt[off + r + i] += wx[i] * tj;
     g.mnorm[off + r + i] += wx[i] * nj;
   }
 }
@@ -141,6 +143,7 @@ struct Scatter {
             g.mref[off + i] += sm * (P.X0[p] - g.origin);
             g.mdef[off + i] += sm * P.F[p];
             g.mbond[off + i] += sm * P.bonded[p];
+            g.minvt[off + i] += sm * P.layer_inv_t[p];
             g.mnorm[off + i] += sm * (P.F[p].inverse().transpose() * P.N0[p]);
           });
       }

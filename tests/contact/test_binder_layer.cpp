@@ -144,7 +144,7 @@ tait_b1 = "4e-3 1/K"
 }
 }  // namespace
 
-// D_n t and D_t t are the binder's secant constrained and shear moduli over the load time: at
+// The law's moduli D_n t and D_t t are the binder's secant constrained and shear moduli over the load time: at
 // 100 us the F2314 calibration's point-driver values of docs/theory/materials.md (shear 68.6 and
 // 21.2 MPa, K0 270 and 196 MPa at 293 and 373 K; M = K0 + 4/3 G), within 1 %; with
 // load_time = "elapsed" the stiffness at t = 100 us is the same secant.
@@ -156,8 +156,15 @@ TEST(BinderLayer, StiffnessesAreTheBindersSecantModuliOverTheLoadTime) {
     Scene<2> fixed = test::scene_from(binder_deck(c.T, "\"100 us\""));
     ASSERT_EQ(fixed.contact.layers.size(), 1u);
     const LayerLaw& l = fixed.contact.layers[0];
-    EXPECT_NEAR(l.kt * 2e-6, c.G, 0.01 * c.G) << c.T;
-    EXPECT_NEAR(l.kn * 2e-6, c.K0 + 4.0 / 3.0 * c.G, 0.01 * (c.K0 + 4.0 / 3.0 * c.G)) << c.T;
+    EXPECT_NEAR(l.kt, c.G, 0.01 * c.G) << c.T;
+    EXPECT_NEAR(l.kn, c.K0 + 4.0 / 3.0 * c.G, 0.01 * (c.K0 + 4.0 / 3.0 * c.G)) << c.T;
+    // the bonded particles carry 1/t of the 2 um layer, the others nothing
+    int bonded = 0;
+    for (std::size_t p = 0; p < fixed.particles.size(); ++p) {
+      EXPECT_EQ(fixed.particles.layer_inv_t[p], fixed.particles.bonded[p] ? 1.0 / 2e-6 : 0.0);
+      bonded += fixed.particles.bonded[p];
+    }
+    EXPECT_GT(bonded, 0);
     Scene<2> elapsed = test::scene_from(binder_deck(c.T, "\"elapsed\""));
     LayerLaw e = elapsed.contact.layers[0];
     e.at_time(100e-6);

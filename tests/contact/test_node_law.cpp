@@ -154,3 +154,82 @@ TEST(NodeLaw, ThreeFieldsConserveMomentumAndStopApproach) {
   const Vec<2> vr = (g.mom[1] + g.mom[2]) / 2.5;
   EXPECT_LT((g.mom[0] / 1.0 - vr).dot(n0), 0.05);
 }
+
+namespace {
+// Two bonded fields at one node joined by a binder layer (thickness t_a on a's particles, t_b on
+// b's), b displaced from its reference by (-closing, sliding): a compressed and sheared layer.
+struct LayerNode {
+  Grid<2> g = one_node(2);
+  ContactMatrix cm;
+  LayerNode(double t_a, double t_b, double closing, double sliding, double mu, bool cap) {
+    two_bodies(g, Vec<2>::Zero(), Vec<2>::Zero());
+    g.allocate_layers();
+    const double m[2] = {2.0, 3.0};
+    const Vec<2> shift[2] = {Vec<2>::Zero(), Vec<2>(-closing, sliding)};
+    const double t[2] = {t_a, t_b};
+    for (int f = 0; f < 2; ++f) {
+      const Vec<2> X(f == 0 ? 1e-5 : 2e-5, 1e-5);  // mass centres, reference
+      g.moff[f] = m[f] * (X + shift[f]);
+      g.mref[f] = m[f] * X;
+      g.mdef[f] = m[f] * Mat<2>::Identity();
+      g.mbond[f] = m[f];
+      g.minvt[f] = m[f] / t[f];
+      g.mnorm[f] = m[f] * Vec<2>(f == 0 ? 1.0 : -1.0, 0.0);  // each side's normal towards the other
+    }
+    cm = matrix(2, {ContactLaw::binder_layer, mu, 0});
+    for (auto& p : cm.pair) p.layer = 0;
+    LayerLaw L;
+    L.binder = "f2314";
+    L.friction = mu;
+    L.shear_cap = cap;
+    L.time = {0.0};
+    L.normal = {3.6e8};  // M_b, Pa
+    L.shear = {7.0e7};   // G_b, Pa
+    L.at_time(0.0);
+    cm.layers.push_back(L);
+  }
+};
+}  // namespace
+
+// The spring's impulse by hand: area 1/2 |(g_a - g_b).n| = 0.75 (m per m of depth), stiffness
+// area x modulus x mean 1/t of the node's bonded mass, backward Euler factor 1/(1 + k dt^2/m_red).
+// Uncapped the shear is the spring's; with Eq. 7 it is capped at mu x the normal impulse; with the
+// per-side thicknesses the node uses the mass-weighted mean of 1/t (2 kg at 4 um, 3 kg at 8 um).
+TEST(NodeLaw, BinderLayerSpringWithPairThicknessAndCoulombCap) {
+  const double dt = 1e-9, closing = 0.2e-6, sliding = 1.0e-6, mu = 0.3;
+  for (const bool cap : {false, true}) {
+    for (const double tb : {4e-6, 8e-6}) {
+      LayerNode n(4e-6, tb, closing, sliding, mu, cap);
+      const double inv_t = (2.0 / 4e-6 + 3.0 / tb) / 5.0;
+      field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+      const double kn = 0.75 * 3.6e8 * inv_t, kt = 0.75 * 7.0e7 * inv_t;
+      const double Jn = dt * kn / (1.0 + kn * dt * dt / kMuRed) * closing;  // pushes a to -x
+      double Jt = dt * kt / (1.0 + kt * dt * dt / kMuRed) * sliding;       // drags a to +y
+      ASSERT_LT(mu * Jn, 0.5 * Jt) << "the cap must bind in this case";
+      if (cap) Jt = mu * Jn;
+      EXPECT_NEAR(n.g.mom[0].x(), -Jn, 1e-12 * Jn) << cap << " " << tb;
+      EXPECT_NEAR(n.g.mom[0].y(), Jt, 1e-12 * Jn) << cap << " " << tb;
+      EXPECT_NEAR((n.g.mom[0] + n.g.mom[1]).norm(), 0.0, 1e-15 * Jn);
+    }
+  }
+}
+
+// In tension the layer carries no shear under Eq. 7 (S_a = 0), and still its normal spring.
+TEST(NodeLaw, BinderLayerCappedShearVanishesInTension) {
+  const double dt = 1e-6;
+  LayerNode n(4e-6, 4e-6, -0.2e-6, 0.3e-6, 0.3, true);
+  field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+  EXPECT_GT(n.g.mom[0].x(), 0.0);  // a pulled towards b
+  EXPECT_EQ(n.g.mom[0].y(), 0.0);
+}
+
+// Squeezed out: a closure beyond closure x t (here the whole 4 um layer) hands the node to
+// Coulomb contact; at rest that exchanges nothing.
+TEST(NodeLaw, BinderLayerSqueezedOutPastItsThickness) {
+  LayerNode n(4e-6, 4e-6, 4.1e-6, 0.0, 0.3, true);
+  field_contact<2>(n.g, n.cm, 2, 1e-6, 0.0, nullptr, true);
+  EXPECT_EQ(n.g.mom[0].x(), 0.0);
+  LayerNode m(4e-6, 4e-6, 3.9e-6, 0.0, 0.3, true);
+  field_contact<2>(m.g, m.cm, 2, 1e-6, 0.0, nullptr, true);
+  EXPECT_LT(m.g.mom[0].x(), 0.0);
+}
