@@ -97,8 +97,10 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
   fs::remove_all(dir);
 }
 
-// KE/IE above the 5 % limit after the ramp is flagged, with the share of points above it; the
-// same bump at 4.9 % is not.
+// KE/IE above the 5 % limit inside the measured range (from the linear window's start) is flagged,
+// with the share of points above it; the same bump at 4.9 % is not. A bump right after the ramp
+// moves the automatic window's start past it instead (the moduli are read where the run is
+// quasi-static) and is not flagged; a window set by hand over it is.
 TEST(RunAnalysis, KineticEnergyAboveTheLimitAfterTheRampIsFlagged) {
   for (double bump : {0.06, 0.049}) {
     const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_test_keie_{}_{}", ::getpid(), bump);
@@ -107,15 +109,29 @@ TEST(RunAnalysis, KineticEnergyAboveTheLimitAfterTheRampIsFlagged) {
     s.ke_ie_bump = bump;
     s.ke_ie_bump_until = 0.0015;  // 0.05-0.15 % strain: 20 of the 790 points after the ramp
     pbx::test::write_synthetic_run(dir, s);
-    const Json a = analyze_run(dir.string(), AnalysisOptions{});
-    const Json& q = *a.find("quasi_static");
+    AnalysisOptions by_hand;
+    by_hand.window_lo = 0.001, by_hand.window_hi = 0.004;
+    const Json h = analyze_run(dir.string(), by_hand);
+    const Json& q = *h.find("quasi_static");
     EXPECT_EQ(q.find("flagged")->as_bool(), bump > 0.05) << bump;
     EXPECT_NEAR(q.find("ke_ie_max_after_ramp")->as_number(), bump, 1e-12);
+    EXPECT_NEAR(q.find("ke_ie_max_from_window_start")->as_number(), bump, 1e-12);
     if (bump > 0.05) {
-      const double share = q.find("fraction_above_limit")->as_number();
-      EXPECT_GT(share, 19.0 / 791);
-      EXPECT_LT(share, 22.0 / 789);
+      const double share = q.find("fraction_above_limit")->as_number();  // 10 of the 770 points from 0.1 %
+      EXPECT_GT(share, 9.0 / 771);
+      EXPECT_LT(share, 12.0 / 769);
     }
+    const Json a = analyze_run(dir.string(), AnalysisOptions{});
+    const double lo = at(a, {"linear_window", "lo"});
+    if (bump > 0.05) {
+      EXPECT_GE(lo, 0.0015);  // starts after the bump (0.01 from strain 0.0015 on)...
+      EXPECT_LT(lo, 0.00155);  // ...at the first settled point
+      EXPECT_TRUE(a.find("linear_window")->find("start_after_ke_ie_settled")->as_bool());
+    } else {
+      EXPECT_LT(lo, 0.00056);  // at the ramp's end
+    }
+    EXPECT_FALSE(a.find("quasi_static")->find("flagged")->as_bool()) << bump;
+    EXPECT_NEAR(at(a, {"quasi_static", "ke_ie_max_from_window_start"}), bump > 0.05 ? 0.01 : bump, 1e-12);
     fs::remove_all(dir);
   }
 }

@@ -458,16 +458,20 @@ def main():
             E, Es = stat(c, "E_Pa", 1e-9)
             M, Ms = stat(c, "M_Pa", 1e-9)
             nu, _ = stat(c, "nu")
-            rows.append([T, K, Ks, pt.get("K_GPa", NAN), ratio(K, pt.get("K_GPa")), G, Gs, pt.get("G_GPa", NAN),
+            Ki, _ = stat(c, "K_isotropic_Pa", 1e-9)
+            rows.append([T, K, Ks, pt.get("K_GPa", NAN), ratio(K, pt.get("K_GPa")), Ki, ratio(Ki, pt.get("K_GPa")),
+                         G, Gs, pt.get("G_GPa", NAN),
                          ratio(G, pt.get("G_GPa")), E, Es, pt.get("E_GPa", NAN), ratio(E, pt.get("E_GPa")), M, nu,
                          stat(c, "K_volume_average_Pa", 1e-9)[0], stat(c, "G_volume_average_Pa", 1e-9)[0],
                          stat(c, "E_volume_average_Pa", 1e-9)[0]])
         rep.table("table2_moduli_vs_temperature",
-                  ["T_K", "K_GPa", "K_std_GPa", "K_paper_GPa", "K_ratio", "G_GPa", "G_std_GPa", "G_paper_GPa", "G_ratio",
+                  ["T_K", "K_GPa", "K_std_GPa", "K_paper_GPa", "K_ratio", "K_iso_GPa", "K_iso_ratio", "G_GPa", "G_std_GPa", "G_paper_GPa", "G_ratio",
                    "E_GPa", "E_std_GPa", "E_paper_GPa", "E_ratio", "M_GPa", "nu", "K_volavg_GPa", "G_volavg_GPa",
                    "E_volavg_GPa"], rows,
                   "Moduli vs temperature beside the paper's Table 2 (E = 9KG/(3K+G); K, G, E from the punch and wall "
-                  "reactions; *_volavg from the volume-averaged stresses)")
+                  "reactions, K = (M + lambda + lambda_z)/3 with the measured out-of-plane stress; K_iso = (M + 2 lambda)/3 "
+                  "assumes sigma_zz = sigma_xx, the paper does not say which it used; *_volavg from the volume-averaged "
+                  "stresses)")
 
         fig, ax = plt.subplots(figsize=(6, 4.5))
         Ts = [c["temperature_K"] for c in tconds]
