@@ -40,7 +40,15 @@ LayerLaw read_layer_law(const DeckTable& t) {
   LayerLaw law;
   law.friction = t.number("friction");
   if (!(law.friction >= 0.0)) t.fail("friction", fmt::format("friction coefficient must be >= 0, got {}", law.friction));
-  law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
+  std::string gap_word;
+  try {
+    if (t.has("bond_gap")) gap_word = t.string("bond_gap");
+  } catch (const InputError&) {  // a plain number: metres
+  }
+  if (gap_word == "thickness")
+    law.bond_within_thickness = true;
+  else
+    law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
   if (t.has("shear_cap")) {
     const std::string cap = t.string("shear_cap");
     if (cap != "coulomb" && cap != "none") t.fail("shear_cap", fmt::format("must be 'coulomb' or 'none', got '{}'", cap));
@@ -50,6 +58,7 @@ LayerLaw read_layer_law(const DeckTable& t) {
   if (direct) {
     for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure"})
       if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
+    if (law.bond_within_thickness) t.fail("bond_gap", "\"thickness\" needs a layer thickness: give binder and thickness");
     law.time = {0.0};
     law.normal = {t.positive("normal_stiffness", kStiffnessPerArea)};
     law.shear = {t.non_negative("shear_stiffness", kStiffnessPerArea)};

@@ -31,6 +31,7 @@ struct LayerLaw {
   double closure = 1.0;      // the layer is squeezed out when the normal closure exceeds closure * t
   bool shear_cap = true;     // layer shear traction <= friction x compressive normal traction (Eq. 7)
   double bond_gap = 0;       // grains whose particles come this close (beyond touching) are bonded, m
+  bool bond_within_thickness = false;  // bond_gap = "thickness": bonded where the gap is below the pair's t
   std::string binder;        // material whose moduli make D_n, D_t ("" when given directly)
   double load_time = 0;      // s: secant over this fixed time; 0 = over the elapsed run time
   // Current values (at_time): multiplied by the node's mean 1/t, the stiffnesses per unit area.
@@ -44,7 +45,7 @@ struct LayerLaw {
 // Reads the law's own keys from a [[contact.pair]] table with law = "binder_layer": friction
 // (required), shear_cap ("coulomb" or "none"), then either normal_stiffness and shear_stiffness
 // (Pa/m), or binder, thickness (a length, or "coats" with coat_scale), load_time ("elapsed" by
-// default) and closure (1); bond_gap (0). The binder moduli are filled
+// default) and closure (1); bond_gap (a length, 0 by default, or "thickness"). The binder moduli are filled
 // in later by layer_moduli (they need the material and the run's temperature and duration).
 LayerLaw read_layer_law(const DeckTable& t);
 

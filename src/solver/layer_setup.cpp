@@ -94,8 +94,19 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   P.X0 = P.x;
   P.bonded.assign(np, 0);
   const double h = sc.grid.h, spacing = h / sc.settings.ppc;
-  double gap = 0;
-  for (const auto& l : cm.layers) gap = std::max(gap, l.bond_gap);
+  const bool coats = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.from_coats; });
+  if (coats && sc.grain_coat.size() != np)
+    root.table("contact").fail("pair", "binder_layer thickness = \"coats\" needs a packed specimen ([specimen] with [packing] "
+                                       "or specimen.packing_dir): the coats come from its grains");
+  // the thickness of a contact's layer: one value, or the two grains' coats
+  const auto thickness = [&](const LayerLaw& L, std::size_t p, std::size_t q) {
+    return L.from_coats ? L.coat_scale * (sc.grain_coat[p] + sc.grain_coat[q]) : L.thickness;
+  };
+  double max_coat = 0;
+  for (double c : sc.grain_coat) max_coat = std::max(max_coat, c);
+  double gap = 0;  // the search reach: the largest bond gap of any law
+  for (const auto& l : cm.layers)
+    gap = std::max(gap, l.bond_within_thickness ? (l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness) : l.bond_gap);
   const double touch_r = 1.01 * spacing + gap, bond_r = 2.0 * h;
   const auto layer_pair = [&](int a, int b) {
     return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
@@ -103,10 +114,6 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   const CellBuckets<D> cells(sc.grid, P.x);
   // touching particles, their contact normal (the mean direction to the touching particles of
   // the other side) and their layer's thickness (the two grains' coats with thickness = "coats")
-  const bool coats = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.from_coats; });
-  if (coats && sc.grain_coat.size() != np)
-    root.table("contact").fail("pair", "binder_layer thickness = \"coats\" needs a packed specimen ([specimen] with [packing] "
-                                       "or specimen.packing_dir): the coats come from its grains");
   const auto pair_law = [&](int a, int b) -> const LayerLaw& { return cm.layers[static_cast<std::size_t>(cm(a, b).layer)]; };
   std::vector<std::uint8_t> touching(np, 0);
   std::vector<Vec<D>> toward(np, Vec<D>::Zero());
@@ -119,15 +126,15 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     int n = 0;
     cells.any_near(P.x[p], touch_cells, [&](std::uint32_t q) {
       const Vec<D> d = P.x[q] - P.x[p];
-      if (layer_pair(P.field[p], P.field[q]) && d.norm() <= touch_r) {
-        sum += d / d.norm();
-        const LayerLaw& L = pair_law(P.field[p], P.field[q]);
-        // 1/t of this contact: the mean over the touching particles is the harmonic mean of t
-        scale_sum += L.from_coats  ? 1.0 / (L.coat_scale * (sc.grain_coat[p] + sc.grain_coat[q]))
-                     : L.thickness > 0.0 ? 1.0 / L.thickness
-                                         : 1.0;  // stiffnesses given per area directly
-        ++n;
-      }
+      if (!layer_pair(P.field[p], P.field[q])) return false;
+      const LayerLaw& L = pair_law(P.field[p], P.field[q]);
+      const double t = thickness(L, p, q);
+      if (d.norm() > 1.01 * spacing + (L.bond_within_thickness ? t : L.bond_gap)) return false;
+      sum += d / d.norm();
+      // 1/t of this contact (the mean over the touching particles is the harmonic mean of t);
+      // stiffnesses given per area directly carry 1
+      scale_sum += L.binder.empty() ? 1.0 : 1.0 / t;
+      ++n;
       return false;
     });
     const double len = sum.norm();

@@ -359,7 +359,7 @@ void Solver<D>::contact(bool record, bool after_update) {
   // impulse moves a grain field by up to its whole jump in one step and, at a node of the die's
   // support, could push it into the wall, which the rigid stage then met only at the next step;
   // near a wall where three grain fields meet this fight grew (KE/IE 0.001 -> 0.07 over 80 steps,
-  // a TATB particle crushed past its EOS: quick_layer's 0.053 run). Last, the wall's constraint
+  // a TATB particle crushed past its EOS: the layered quick study's 0.053 run). Last, the wall's constraint
   // holds at the end of every step; the layered column (tests/contact) is unchanged to all digits.
   // Without springs the order stays rigid -> fields (the runs before 2026-12-02, bit for bit).
   const bool springs = after_update && sc_.contact.has_layers();

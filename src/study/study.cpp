@@ -176,15 +176,20 @@ StudySpec read_study(const std::string& file) {
     ss << in.rdbuf();
     s.base_text = ss.str();
   }
-  std::vector<long> seeds = {1};
-  if (st.has("seeds")) {
-    seeds.clear();
-    for (double v : st.quantities("seeds", dim::none)) {
-      if (!(v >= 0 && v < 9.0e15) || v != std::floor(v)) st.fail("seeds", "must be non-negative integers below 9e15");
-      seeds.push_back(static_cast<long>(v));
+  // study.seeds for every group; a group's own `seeds` replaces them for its runs (e.g. more
+  // microstructures where the specimen-to-specimen scatter matters)
+  const auto read_seeds = [](const DeckTable& t, std::vector<long> def) {
+    if (!t.has("seeds")) return def;
+    std::vector<long> out;
+    for (double v : t.quantities("seeds", dim::none)) {
+      if (!(v >= 0 && v < 9.0e15) || v != std::floor(v)) t.fail("seeds", "must be non-negative integers below 9e15");
+      out.push_back(static_cast<long>(v));
     }
-    if (seeds.empty()) st.fail("seeds", "must list at least one seed");
-  }
+    if (out.empty()) t.fail("seeds", "must list at least one seed");
+    return out;
+  };
+  const std::vector<long> study_seeds = read_seeds(st, {1});
+  bool several_seeds = study_seeds.size() > 1;
   // Overrides are kept as TOML text; the toml++ tree of the study deck gives them back verbatim.
   const toml::table tree = toml::parse(deck.text(), file);
   auto overrides_of = [&](const toml::table* t) {
@@ -205,6 +210,8 @@ StudySpec read_study(const std::string& file) {
   const toml::array* garr = tree["study"]["group"].as_array();
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
     const DeckTable& g = groups[gi];
+    const std::vector<long> seeds = read_seeds(g, study_seeds);
+    several_seeds = several_seeds || seeds.size() > 1;
     const std::string gname = g.string("name");
     check_folder_name(g, "name", gname);
     const std::string key = g.string("key");
@@ -292,9 +299,9 @@ StudySpec read_study(const std::string& file) {
                              reads ? "the specimen is read from specimen.packing_dir, not generated"
                                    : "the base deck has no [specimen] (no packed microstructure)"));
   }
-  if (seeds.size() > 1 && !base_has_specimen)
+  if (several_seeds && !base_has_specimen)
     st.fail("seeds", "the base deck has no [specimen] (no packed microstructure): every seed would give the same run");
-  if (seeds.size() > 1 && reads_packing)
+  if (several_seeds && reads_packing)
     st.fail("seeds", "the specimen is read from specimen.packing_dir, not generated: every seed would give the same run");
   if (auto a = deck.root().optional_table("analysis")) {
     s.analysis = AnalysisOptions::from_deck(*a);

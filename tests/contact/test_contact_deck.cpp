@@ -126,4 +126,14 @@ TEST(ContactDeck, BadDecksNameTheKey) {
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nclosure = 1.5\n"),
               HasSubstr("closure"));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"-2 um\"\n"), HasSubstr("thickness"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nshear_cap = \"tresca\"\n"),
+              AllOf(HasSubstr("shear_cap"), HasSubstr("'coulomb' or 'none'")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\ncoat_scale = 2\n"),
+              AllOf(HasSubstr("coat_scale"), HasSubstr("coats")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coats\"\ncoat_scale = 0\n"),
+              HasSubstr("coat_scale"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coat\"\n"), HasSubstr("thickness"));
+  // the disks here are [[geometry]], not a packing: no coats to take the thickness from
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coats\"\n"),
+              AllOf(HasSubstr("contact.pair"), HasSubstr("packed specimen")));
 }

@@ -2,6 +2,7 @@
 // mistyped override must fail here, not an hour into a study. Runs at the quick resolution are
 // built in full (packing included); the fine and full decks differ from quick only in the cell
 // size, so for them the run decks are parsed and their overrides checked against the base deck.
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -44,11 +45,31 @@ std::vector<std::pair<std::string, std::string>> physics_overrides(const StudyRu
 TEST(PaperDecks, QuickStudyRunsAreValidDecks) { build_every_run("quick.toml"); }
 TEST(PaperDecks, SensitivityStudyRunsAreValidDecks) { build_every_run("sensitivity.toml"); }
 TEST(PaperDecks, ContactDetectionStudyRunsAreValidDecks) { build_every_run("contact_detection.toml"); }
-TEST(PaperDecks, QuickLayerStudyRunsAreValidDecks) { build_every_run("quick_layer.toml"); }
+TEST(PaperDecks, QuickGrainContactStudyRunsAreValidDecks) { build_every_run("quick_grain_contact.toml"); }
 TEST(PaperDecks, LayerResolutionStudyRunsAreValidDecks) { build_every_run("layer_resolution.toml"); }
 
-TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {
+// quick.toml's runs of seed 1 (it runs the densities over three seeds, the finer studies over one).
+std::vector<StudyRunSpec> seed_one(const StudySpec& s) {
+  std::vector<StudyRunSpec> out;
+  for (const auto& r : s.runs)
+    if (r.seed == 1) out.push_back(r);
+  return out;
+}
+
+TEST(PaperDecks, QuickRunsThreeSeedsPerDensityAndOnePerTemperature) {
   const StudySpec quick = read_study(kPaper + "quick.toml");
+  int temperature = 0, density = 0;
+  for (const auto& r : quick.runs) (r.group == "temperature" ? temperature : density) += 1;
+  EXPECT_EQ(temperature, 4);
+  EXPECT_EQ(density, 9);
+  for (const long seed : {1L, 2L, 3L})
+    EXPECT_EQ(std::count_if(quick.runs.begin(), quick.runs.end(),
+                            [&](const StudyRunSpec& r) { return r.group == "density" && r.seed == seed; }), 3) << seed;
+}
+
+TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {
+  StudySpec quick = read_study(kPaper + "quick.toml");
+  quick.runs = seed_one(quick);
   for (const std::string name : {"fine.toml", "full.toml"}) {
     const StudySpec s = read_study(kPaper + name);
     ASSERT_EQ(s.runs.size(), quick.runs.size()) << name;
@@ -64,7 +85,8 @@ TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {
 TEST(PaperDecks, EnsembleIsTheQuickStudyOverFiveSeeds) {
   // ensemble.toml must stay the quick study (its seed-1 runs are quick's runs) with seeds 1-5 and
   // the same linear window; only snapshots may differ.
-  const StudySpec quick = read_study(kPaper + "quick.toml");
+  StudySpec quick = read_study(kPaper + "quick.toml");
+  quick.runs = seed_one(quick);
   const StudySpec ens = read_study(kPaper + "ensemble.toml");
   ASSERT_EQ(ens.runs.size(), 5 * quick.runs.size());
   for (const auto& q : quick.runs) {
