@@ -233,3 +233,14 @@ TEST(NodeLaw, BinderLayerSqueezedOutPastItsThickness) {
   field_contact<2>(m.g, m.cm, 2, 1e-6, 0.0, nullptr, true);
   EXPECT_LT(m.g.mom[0].x(), 0.0);
 }
+
+// Torn open past its own thickness (a normal strain of 100 %) the layer no longer pulls: the pair
+// is Coulomb, inactive while the sides are apart; just below, the spring pulls a towards b.
+TEST(NodeLaw, BinderLayerTornOpenPastItsThickness) {
+  LayerNode n(4e-6, 4e-6, -4.1e-6, 0.0, 0.3, true);
+  field_contact<2>(n.g, n.cm, 2, 1e-9, 0.0, nullptr, true);
+  EXPECT_EQ(n.g.mom[0].x(), 0.0);
+  LayerNode m(4e-6, 4e-6, -3.9e-6, 0.0, 0.3, true);
+  field_contact<2>(m.g, m.cm, 2, 1e-9, 0.0, nullptr, true);
+  EXPECT_GT(m.g.mom[0].x(), 0.0);
+}
