@@ -78,6 +78,7 @@ const Quantity kQuantities[] = {
     {"density_kg_m3", {"density_kg_m3"}},
     {"porosity", {"porosity"}},
     {"ke_ie_max_after_ramp", {"quasi_static", "ke_ie_max_after_ramp"}},
+    {"ke_ie_max_from_window_start", {"quasi_static", "ke_ie_max_from_window_start"}},
     {"punch_vs_volume_rms_relative", {"agreement", "punch_vs_minus_syy", "rms_relative"}},
     {"interpenetration_share", {"interpenetration", "share_of_compaction"}},
     {"interpenetration_share_at_window_end", {"interpenetration", "share_of_compaction_at_window_end"}},
