@@ -153,7 +153,7 @@ void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
   c->add_option("--strength-strain", a.strength_strain, "compression strength = max stress up to this strain (default 0.03)");
   c->add_option("--window-signal", a.window_signal, "curve for the automatic window: volume_average (default) or punch");
   c->add_option("--window-tolerance", a.tolerance, "automatic window: allowed drop of the end tangent (default 0.10)");
-  c->add_option("--ke-ie-limit", a.ke_ie, "flag runs whose KE/IE exceeds this after the ramp (default 0.05)");
+  c->add_option("--ke-ie-limit", a.ke_ie, "flag runs whose KE/IE exceeds this from the linear window's start; the automatic window starts where KE/IE has settled below it (default 0.05)");
   c->add_option("--options", a.options_file, "TOML file with an [analysis] table (docs/deck/analysis.md)");
   c->add_flag("--allow-unfinished", a.allow_unfinished, "analyse runs whose run.json status is not 'finished'");
 }
