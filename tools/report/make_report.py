@@ -601,13 +601,20 @@ def main():
 
         fig, ax = plt.subplots(figsize=(6, 4.5))
         rhos = [stat(c, "density_kg_m3")[0] / 1e3 for c in dconds]
+        rline = np.linspace(min(rhos), max(rhos), 50)
+        xl = rline * 1e3 / rho0
+        Kl = phs["KU_GPa"] * phs["K_k"] * xl ** phs["K_n"]
+        Gl = phs["GU_GPa"] * phs["G_k"] * xl ** phs["G_n"]
+        paper_lines = {"K": Kl, "G": Gl, "E": 9 * Kl * Gl / (3 * Kl + Gl)}
         for key, lab, mk in (("K_Pa", "K", "o"), ("G_Pa", "G", "s"), ("E_Pa", "E", "^")):
-            ax.errorbar(rhos, [stat(c, key, 1e-9)[0] for c in dconds], yerr=[stat(c, key, 1e-9)[1] for c in dconds],
-                        marker=mk, capsize=3, label=lab)
+            eb = ax.errorbar(rhos, [stat(c, key, 1e-9)[0] for c in dconds], yerr=[stat(c, key, 1e-9)[1] for c in dconds],
+                             marker=mk, capsize=3, label=f"{lab} (ours, mean ± std over seeds)")
+            ax.plot(rline, paper_lines[lab], "--", color=eb[0].get_color(), lw=1, label=f"{lab} (paper Eq. 21-22)")
         ax.set_xlabel("density (g/cm³)")
         ax.set_ylabel("modulus (GPa)")
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
-        rep.figure(fig, "fig8_moduli_vs_density", "Moduli vs density (cf. Fig. 8)")
+        rep.figure(fig, "fig8_moduli_vs_density", "Moduli vs density (cf. Fig. 8): ours with error bars (std over "
+                   "seeds), the paper's Eq. 21-22 dashed (E from them, 9KG/(3K+G))")
 
         fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
         rg = np.linspace(min(rhos + [1.70]), max(rhos + [1.942]), 100)
