@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "io/atomic_write.hpp"
 
 namespace pbx {
 
@@ -121,8 +122,8 @@ double column_unit_factor(const std::string& name) {
 
 void write_csv(const std::string& path, const std::vector<std::string>& names,
                const std::vector<std::vector<double>>& cols) {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+  // written whole or not at all: a report never reads half a table
+  std::ostringstream out;
   out << fmt::format("{}\n", fmt::join(names, ","));
   std::size_t n = cols.empty() ? 0 : cols[0].size();
   for (std::size_t r = 0; r < n; ++r) {
@@ -132,6 +133,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& names,
     }
     out << '\n';
   }
+  write_text_atomically(path, out.str());
 }
 
 }  // namespace pbx

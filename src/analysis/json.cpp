@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "io/atomic_write.hpp"
 
 namespace pbx {
 
@@ -352,10 +353,8 @@ Json Json::read_file(const std::string& path) {
 }
 
 void Json::write_file(const std::string& path) const {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
-  out << dump() << '\n';
-  if (!out) throw InputError(fmt::format("error while writing '{}'", path));
+  // written whole or not at all: analysis.json is a result file
+  write_text_atomically(path, dump() + "\n");
 }
 
 }  // namespace pbx

@@ -19,6 +19,7 @@ namespace {
 struct RunArgs {
   std::string deck, out = "out/run", restart;
   int threads = 0, checkpoint_every = 0;
+  double checkpoint_minutes = 10;
   bool quiet = false;
 };
 
@@ -40,13 +41,19 @@ void register_run(CLI::App& app) {
   run->add_option("--checkpoint-every", args->checkpoint_every,
                   "write OUT/checkpoint.h5 every N history rows (it is overwritten each time)")
       ->check(CLI::Range(1, 1000000));
+  run->add_option("--checkpoint-minutes", args->checkpoint_minutes,
+                  "also write OUT/checkpoint.h5 at the first history row after this many minutes since the last one "
+                  "(0: never)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   run->add_option("--restart", args->restart,
-                  "continue the run saved in this checkpoint (its deck; output in the checkpoint's folder "
-                  "unless --out is given)")
+                  "continue the run saved in this checkpoint, in the checkpoint's folder (its deck, its history.csv)")
       ->check(CLI::ExistingFile);
   run->add_option("--threads,-t", args->threads, "OpenMP threads (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores)")->check(CLI::Range(1, 1024));
   run->add_flag("--quiet,-q", args->quiet, "no progress display");
   run->callback([args, run] {
+    if (args->out.empty())
+      throw InputError("--out: an empty folder name (an unset shell variable?); give the output folder");
     Deck deck = Deck::from_string("", "");
     CheckpointData ck;
     std::string deck_name = args->deck;
@@ -61,11 +68,19 @@ void register_run(CLI::App& app) {
       // relative paths in the deck (specimen.packing_dir) resolve against the original deck's folder
       deck = Deck::from_string(ck.deck_text, ck.deck_name, std::filesystem::path(ck.deck_name).parent_path().string());
       deck_name = ck.deck_name;
-      if (run->count("--out") == 0) {
-        // the checkpoint's folder; "checkpoint.h5" alone is the current one (an empty --out wrote nothing)
-        const auto folder = std::filesystem::path(args->restart).parent_path();
-        args->out = folder.empty() ? "." : folder.string();
+      // A run continues in its own folder: its history.csv holds the rows the checkpoint counts, and
+      // another folder's history (another run) would be cut and appended to.
+      const auto parent = std::filesystem::path(args->restart).parent_path();
+      const std::string folder = parent.empty() ? "." : parent.string();
+      if (run->count("--out") > 0) {
+        std::error_code e1, e2;
+        if (!std::filesystem::equivalent(folder, args->out, e1) || e1 || e2)
+          throw InputError(fmt::format("pbxmpm run: --restart continues the run in the checkpoint's own folder '{}'; "
+                                       "--out '{}' is another folder (copy the whole run folder to continue it "
+                                       "elsewhere)",
+                                       folder, args->out));
       }
+      args->out = folder;
     } else if (args->deck.empty()) {
       throw InputError("pbxmpm run: give a deck, or --restart CHECKPOINT");
     } else {
@@ -81,6 +96,7 @@ void register_run(CLI::App& app) {
     opt.deck_text = deck.text();
     opt.deck_name = deck_name;
     opt.checkpoint_every = args->checkpoint_every;
+    opt.checkpoint_wall_s = 60.0 * args->checkpoint_minutes;
     Runner<2> runner(scene, opt, !args->restart.empty());
     if (!args->restart.empty()) runner.resume(ck);
     std::fprintf(stderr, "pbxmpm: %s%s: %zu particles, %ld x %ld nodes, %d fields, end time %.4g s -> %s\n",

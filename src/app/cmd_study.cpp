@@ -36,7 +36,9 @@ void register_study(CLI::App& app) {
       ->capture_default_str();
   st->add_flag("--no-report", a->no_report, "skip the report at the end");
   st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");
-  st->callback([a] {
+  st->callback([a, st] {
+    if (st->count("--out") > 0 && a->out.empty())
+      throw InputError("--out: an empty folder name (an unset shell variable?); give a folder, or leave --out out for out/<study name>");
     StudySpec s = read_study(a->deck);
     StudyOptions o;
     if (a->out.empty() && !is_folder_name(s.name))
@@ -50,6 +52,8 @@ void register_study(CLI::App& app) {
     o.only = a->only;
     o.checkpoint_every = a->checkpoint_every;
     const int failed = run_study(s, o);
+    if (failed == kStudyInterrupted)
+      throw Interrupted("study interrupted; run the same command again to continue it from the interrupted run's checkpoint");
     if (failed == kStudyNotStarted) throw InputError("the study did not start (no run was made): see the messages above");
     if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
   });

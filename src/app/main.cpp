@@ -34,6 +34,12 @@ int main(int argc, char** argv) {
   } catch (const pbx::InstabilityError& e) {
     std::fprintf(stderr, "pbxmpm: run stopped, unstable: %s\n", e.what());
     return 3;
+  } catch (const pbx::OutputError& e) {
+    std::fprintf(stderr, "pbxmpm: output error: %s\n", e.what());
+    return 4;
+  } catch (const pbx::Interrupted& e) {
+    std::fprintf(stderr, "pbxmpm: %s\n", e.what());
+    return 130;
   } catch (const std::filesystem::filesystem_error& e) {
     std::fprintf(stderr, "pbxmpm: error: file system error on '%s': %s (for an output folder: check --out and "
                          "its permissions)\n",

@@ -15,4 +15,16 @@ struct InstabilityError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An output file that could not be written whole (a full disk, a quota, a size limit, no
+// permission). The message names the file and the system's reason; the file is left as it was
+// (atomic writes) and nothing claims to be complete.
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A run stopped by SIGINT/SIGTERM after finishing its step and saving a checkpoint.
+struct Interrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace pbx

@@ -13,13 +13,13 @@ namespace pbx {
 CsvWriter::CsvWriter(const std::string& file, const std::vector<std::string>& columns, bool append)
     : ncol_(columns.size()), file_(file) {
   f_ = std::fopen(file.c_str(), append ? "a" : "w");
-  if (!f_) throw InputError(fmt::format("cannot write '{}'", file));
+  if (!f_) throw OutputError(fmt::format("cannot write '{}'", file));
   if (!append) {
     if (std::fprintf(f_, "%s\n", header(columns).c_str()) < 0 || std::fflush(f_) != 0) {
       const int err = errno;
       std::fclose(f_);  // a throwing constructor runs no destructor
       f_ = nullptr;
-      throw InputError(fmt::format("cannot write '{}': {}", file, std::strerror(err)));
+      throw OutputError(fmt::format("cannot write '{}': {}", file, std::strerror(err)));
     }
   }
 }
@@ -51,7 +51,7 @@ void CsvWriter::row(const std::vector<double>& values) {
   std::string line;
   for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format("{}{:.10g}", i ? "," : "", values[i]);
   if (std::fprintf(f_, "%s\n", line.c_str()) < 0 || std::fflush(f_) != 0)
-    throw InputError(fmt::format("cannot write a row to '{}': {}", file_, std::strerror(errno)));
+    throw OutputError(fmt::format("cannot write a row to '{}': {}", file_, std::strerror(errno)));
 }
 
 }  // namespace pbx

@@ -9,12 +9,14 @@
 
 #include "core/error.hpp"
 #include "io/atomic_write.hpp"
+#include "io/hdf5_image.hpp"
 
 namespace pbx {
 
 namespace {
-// Every HDF5 call is checked: a snapshot that could not be written (disk full, quota) stops the
-// run with a message naming the file and the dataset, instead of leaving a file ParaView cannot read.
+// Every HDF5 call is checked; the file is built in memory and reaches the disk whole
+// (io/hdf5_image.hpp): a snapshot that could not be written (disk full, quota) stops the run with
+// a message naming it, and leaves no half file.
 void write_dataset(hid_t file, const std::string& path, const char* name, hid_t type, const void* data,
                    std::size_t rows, std::size_t cols, const char* units) {
   hsize_t dims[2] = {rows, cols};
@@ -33,7 +35,7 @@ void write_dataset(hid_t file, const std::string& path, const char* name, hid_t 
   }
   if (ds >= 0) ok = H5Dclose(ds) >= 0 && ok;
   if (space >= 0) H5Sclose(space);
-  if (!ok) throw InputError(fmt::format("cannot write snapshot '{}': writing dataset '{}' failed", path, name));
+  if (!ok) throw OutputError(fmt::format("cannot write snapshot '{}': writing dataset '{}' failed", path, name));
 }
 }  // namespace
 
@@ -43,31 +45,26 @@ void SnapshotWriter::write(const SnapshotData& s) {
   std::filesystem::create_directories(dir_);
   const std::string name = snapshot_name(entries_.size());
   const std::string path = (std::filesystem::path(dir_) / name).string();
-  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) throw InputError(fmt::format("cannot write snapshot '{}'", path));
+  Hdf5Quiet quiet;
+  Hdf5Image img(path);
+  const hid_t f = img.id();
   const std::size_t n = s.count;
-  try {
-    write_dataset(f, path, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
-    write_dataset(f, path, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
-    write_dataset(f, path, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
-    write_dataset(f, path, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
-    write_dataset(f, path, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
-    write_dataset(f, path, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");
-    write_dataset(f, path, "volume", H5T_NATIVE_DOUBLE, s.volume.data(), n, 1, s.dim == 2 ? "m^2 per m of depth" : "m^3");
-    write_dataset(f, path, "material", H5T_NATIVE_INT, s.material.data(), n, 1, "index into run.json materials");
-    write_dataset(f, path, "field", H5T_NATIVE_INT, s.field.data(), n, 1, "contact field index");
-    hid_t aspace = H5Screate(H5S_SCALAR);
-    hid_t attr = H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
-    const bool ok = attr >= 0 && H5Awrite(attr, H5T_NATIVE_DOUBLE, &s.time) >= 0;
-    if (attr >= 0) H5Aclose(attr);
-    H5Sclose(aspace);
-    if (!ok) throw InputError(fmt::format("cannot write snapshot '{}': writing attribute 'time_s' failed", path));
-  } catch (...) {
-    H5Fclose(f);
-    throw;
-  }
-  // the data reach the disk at close: its failure is the snapshot's failure
-  if (H5Fclose(f) < 0) throw InputError(fmt::format("cannot write snapshot '{}': closing the file failed", path));
+  write_dataset(f, path, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
+  write_dataset(f, path, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
+  write_dataset(f, path, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
+  write_dataset(f, path, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
+  write_dataset(f, path, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
+  write_dataset(f, path, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");
+  write_dataset(f, path, "volume", H5T_NATIVE_DOUBLE, s.volume.data(), n, 1, s.dim == 2 ? "m^2 per m of depth" : "m^3");
+  write_dataset(f, path, "material", H5T_NATIVE_INT, s.material.data(), n, 1, "index into run.json materials");
+  write_dataset(f, path, "field", H5T_NATIVE_INT, s.field.data(), n, 1, "contact field index");
+  hid_t aspace = H5Screate(H5S_SCALAR);
+  hid_t attr = aspace < 0 ? -1 : H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
+  bool ok = attr >= 0 && H5Awrite(attr, H5T_NATIVE_DOUBLE, &s.time) >= 0;
+  if (attr >= 0) ok = H5Aclose(attr) >= 0 && ok;
+  if (aspace >= 0) H5Sclose(aspace);
+  if (!ok) throw OutputError(fmt::format("cannot write snapshot '{}': writing attribute 'time_s' failed", path));
+  img.save();
   entries_.push_back({name, s.time, n});
   write_xdmf();
 }

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/parse_number.hpp"
+#include "io/atomic_write.hpp"
 #include "microstructure/packing.hpp"
 #include "microstructure/phase_map.hpp"
 #include "microstructure/png_image.hpp"
@@ -53,8 +54,7 @@ void write_packing(const Packing& p, const std::string& dir) {
   std::filesystem::create_directories(dir);
   const auto path = [&](const char* f) { return (std::filesystem::path(dir) / f).string(); };
   {
-    std::ofstream csv(path("packing.csv"));
-    if (!csv) throw InputError(fmt::format("cannot write '{}'", path("packing.csv")));
+    std::ostringstream csv;
     csv << fmt::format("# pbxmpm packing {} ({})\n", PBXMPM_VERSION, PBXMPM_GIT);
     csv << fmt::format("# box_width_m = {:.17g}\n# box_height_m = {:.17g}\n", p.box.x(), p.box.y());
     csv << fmt::format("# periodic = {}\n# seed = {}\n", p.periodic ? 1 : 0, p.seed);
@@ -70,6 +70,7 @@ void write_packing(const Packing& p, const std::string& dir) {
       csv << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{},{}\n", i, g.centre.x(), g.centre.y(), g.diameter,
                          g.coat, g.colour, g.mode);
     }
+    write_text_atomically(path("packing.csv"), csv.str());
   }
   {
     const PackingStats& s = p.stats;
@@ -83,7 +84,7 @@ void write_packing(const Packing& p, const std::string& dir) {
     for (std::size_t k = 0; k < hist.size(); ++k)
       h += fmt::format("{}{{\"from_um\": {}, \"to_um\": {}, \"count\": {}}}", k ? ", " : "", k * 25, (k + 1) * 25,
                        hist[k]);
-    std::ofstream js(path("packing.json"));
+    std::ostringstream js;
     js << "{\n";
     js << fmt::format("  \"code_version\": \"pbxmpm {} ({})\",\n", PBXMPM_VERSION, PBXMPM_GIT);
     js << fmt::format("  \"source\": \"{}\",\n  \"seed\": {},\n  \"periodic\": {},\n", p.source, p.seed,
@@ -106,6 +107,7 @@ void write_packing(const Packing& p, const std::string& dir) {
     js << fmt::format("  \"colours\": {},\n  \"contact_gap_m\": {},\n", s.colours, json_number(p.contact_gap));
     js << fmt::format("  \"diameter_histogram\": [{}]\n", h);
     js << "}\n";
+    write_text_atomically(path("packing.json"), js.str());
   }
   write_png(path("packing.png"), picture(p));
   if (p.image.nx > 0) {

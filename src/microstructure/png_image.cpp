@@ -23,12 +23,12 @@ struct File {
 void write_rows(const std::string& file, int width, int height, int depth, int colour_type,
                 const std::vector<png_bytep>& rows) {
   File out{std::fopen(file.c_str(), "wb")};
-  if (!out.f) throw InputError(fmt::format("cannot write '{}'", file));
+  if (!out.f) throw OutputError(fmt::format("cannot write '{}'", file));
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png_create_info_struct(png);
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    throw InputError(fmt::format("libpng failed writing '{}'", file));
+    throw OutputError(fmt::format("libpng failed writing '{}'", file));
   }
   png_init_io(png, out.f);
   png_set_IHDR(png, info, width, height, depth, colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,

@@ -5,8 +5,11 @@
 #include <cstdint>
 #include <cstring>
 #include <cstdio>
+#include <atomic>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include <fmt/format.h>
 
@@ -31,6 +34,59 @@ double peak_memory_mb() {
   getrusage(RUSAGE_SELF, &ru);
   return static_cast<double>(ru.ru_maxrss) / 1024.0;
 }
+// A fresh run's identity: run.json and every checkpoint carry it, so that a restart refuses a
+// folder holding another run.
+std::string new_run_id() {
+  std::random_device rd;
+  return fmt::format("{:08x}{:08x}", rd(), rd());
+}
+
+// The run_id a folder's run.json records, or "" (no run.json, or one written before 2026-12-04).
+std::string run_id_in(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "run.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "\"run_id\": \"";
+  const auto at = text.find(key);
+  if (at == std::string::npos) return "";
+  const auto end = text.find('"', at + key.size());
+  return end == std::string::npos ? "" : text.substr(at + key.size(), end - at - key.size());
+}
+
+// SIGINT/SIGTERM: the first asks the run to stop at its next history row (after a checkpoint),
+// a second one stops the process at once with the signal's default action.
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int sig) {
+  if (g_stop_signal.load() != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_stop_signal.store(sig);
+}
+class StopSignals {
+ public:
+  explicit StopSignals(bool on) : on_(on) {
+    if (!on_) return;
+    g_stop_signal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    if (!on_) return;
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  bool on_;
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
 std::string hms(double s) {
   if (!(s >= 0) || s > 1e7) return "--:--:--";
   const long t = std::lround(s);
@@ -69,12 +125,35 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   if (!opt_.out_dir.empty()) {
     lock_ = OutputLock(opt_.out_dir, "run");
     if (!restart) {
+      clear_previous_run();
+      run_id_ = new_run_id();
       history_ = CsvWriter((std::filesystem::path(opt_.out_dir) / "history.csv").string(), columns_);
-      // A checkpoint left in a reused folder by an earlier run would, on a later --restart, cut this
-      // run's history and append the old run's rows: a fresh run starts without one.
-      std::filesystem::remove(std::filesystem::path(opt_.out_dir) / "checkpoint.h5");
     }
     snapshots_ = SnapshotWriter((std::filesystem::path(opt_.out_dir) / "snapshots").string());
+  }
+}
+
+// A fresh run into a folder that holds an earlier run replaces it: the earlier run's files are
+// removed first, so that none of them (its analysis.json, a checkpoint a later --restart would
+// take, snapshots beyond this run's count) is read as this run's. Files pbxmpm does not write
+// are left alone; a study's deck.toml is the study's, written before the run.
+template <int D>
+void Runner<D>::clear_previous_run() const {
+  namespace fs = std::filesystem;
+  const fs::path dir(opt_.out_dir);
+  for (const char* f : {"run.json", "run.json.tmp", "history.csv", "analysis.json", "analysis.json.tmp", "checkpoint.h5",
+                        "checkpoint.h5.tmp"})
+    fs::remove(dir / f);
+  const fs::path snaps = dir / "snapshots";
+  if (fs::is_directory(snaps)) {
+    std::vector<fs::path> old;
+    for (const auto& e : fs::directory_iterator(snaps)) {
+      const std::string n = e.path().filename().string();
+      if ((n.rfind("snap_", 0) == 0 && (n.ends_with(".h5") || n.ends_with(".h5.tmp"))) || n == "snapshots.xmf" ||
+          n == "snapshots.xmf.tmp")
+        old.push_back(e.path());
+    }
+    for (const auto& f : old) fs::remove(f);
   }
 }
 
@@ -267,12 +346,14 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   for (char c : message) {
     if (c == '"' || c == '\\') esc += '\\';
     if (c == '\n') { esc += "\\n"; continue; }
+    if (static_cast<unsigned char>(c) < 0x20) { esc += fmt::format("\\u{:04x}", static_cast<int>(c)); continue; }
     esc += c;
   }
   write_text_atomically(std::filesystem::path(opt_.out_dir) / "run.json", fmt::format(
       R"J({{
   "status": "{}",
   "message": "{}",
+  "run_id": "{}",
   "code_version": "{} ({})",
   "segment_code_versions": "{}",
   "host": "{}",
@@ -302,7 +383,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   "deck": {}
 }}
 )J",
-      status, esc, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), host_name(), static_cast<long>(::getpid()), D, omp_get_max_threads(), threads_.chosen_by, P.size(),
+      status, esc, run_id_, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), host_name(), static_cast<long>(::getpid()), D, omp_get_max_threads(), threads_.chosen_by, P.size(),
       [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
       sc_.grid.fields, solver_.step_count(), solver_.time(), wall, restarts_,
       wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),
@@ -388,6 +469,7 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
   c.deck_text = opt_.deck_text;
   c.deck_name = opt_.deck_name;
   c.code_versions = this_and_earlier_versions();
+  c.run_id = run_id_;
   const auto st = solver_.state();
   c.scalars = {{"t", st.t}, {"dt", st.dt}, {"cmax", st.cmax}, {"vmax", st.vmax}, {"internal", st.internal},
                {"dissipated", st.dissipated}, {"steps", static_cast<double>(st.steps)},
@@ -430,6 +512,16 @@ void Runner<D>::resume(const CheckpointData& c) {
       throw InputError(fmt::format("checkpoint array '{}' is missing or has the wrong size for this deck", k));
     return it->second;
   };
+  // A checkpoint continues only its own run: resumed into a folder holding another run, it would
+  // cut that run's history and append its own rows.
+  if (!opt_.out_dir.empty()) {
+    const std::string here = run_id_in(opt_.out_dir);
+    if (!here.empty() && here != c.run_id)
+      throw InputError(fmt::format("restart: '{}' holds another run (run_id {}) than the checkpoint's ({}); a checkpoint "
+                                   "continues only in its own run's folder",
+                                   opt_.out_dir, here, c.run_id.empty() ? "not recorded" : c.run_id));
+  }
+  run_id_ = c.run_id.empty() ? new_run_id() : c.run_id;
   const std::size_t n = P.size();
   if (static_cast<std::size_t>(scalar("particles")) != n)
     throw InputError("checkpoint particle count differs from the deck's: the deck or packing changed");
@@ -526,6 +618,10 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
     return m;
   };
   write_run_json("running", "");
+  StopSignals signals(opt_.catch_signals);
+  last_checkpoint_wall_ = now_s();
+  const auto checkpoint_file = (std::filesystem::path(opt_.out_dir) / "checkpoint.h5").string();
+  bool told = false;
   try {
     if (!resumed_) {
       emit_row();
@@ -534,7 +630,9 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
       next_snapshot_ = 1;
     }
     while (solver_.time() < t_end * (1 - 1e-12)) {
-      solver_.step();
+      // the last step is shortened to land on the end time (a run of fewer steps than history
+      // rows overshot its end strain by up to a whole step)
+      solver_.step(t_end - solver_.time());
       const double t = solver_.time();
       bool row = false;
       if (t >= t_end * next_row_ / (rows - 1) || t >= t_end * (1 - 1e-12)) {
@@ -546,9 +644,31 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
         write_snapshot();
         while (t_end * next_snapshot_ / sc_.control.snapshots <= t) ++next_snapshot_;
       }
-      if (row && opt_.checkpoint_every > 0 && !opt_.out_dir.empty() && rows_written_ % opt_.checkpoint_every == 0)
-        write_checkpoint((std::filesystem::path(opt_.out_dir) / "checkpoint.h5").string());
+      const bool stop = g_stop_signal.load() != 0;
+      if (stop && !told) {
+        told = true;
+        std::fprintf(stderr, "%spbxmpm: %s received: finishing the run up to its next history row, then saving a "
+                             "checkpoint (a second one stops at once)\n",
+                     tty_ && opt_.progress ? "\n" : "", g_stop_signal.load() == SIGINT ? "SIGINT" : "SIGTERM");
+      }
+      // Checkpoints are taken right after a row, where the force accumulators have just been
+      // reset: a restart from one continues bit for bit.
+      if (!row || opt_.out_dir.empty()) {
+        if (stop && opt_.out_dir.empty()) throw Interrupted("interrupted by a signal (no output folder: nothing saved)");
+        continue;
+      }
+      const bool more = solver_.time() < t_end * (1 - 1e-12);
+      const bool periodic =
+          (opt_.checkpoint_every > 0 && rows_written_ % opt_.checkpoint_every == 0) ||
+          (opt_.checkpoint_wall_s > 0 && now_s() - last_checkpoint_wall_ >= opt_.checkpoint_wall_s);
+      if (more && (periodic || stop)) {
+        write_checkpoint(checkpoint_file);
+        last_checkpoint_wall_ = now_s();
+      }
+      if (stop && more) stop_interrupted();
     }
+  } catch (const Interrupted&) {
+    throw;
   } catch (const InstabilityError& e) {
     if (opt_.progress && tty_) std::fprintf(stderr, "\n");
     try {
@@ -559,12 +679,26 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
     throw;
   } catch (const std::exception& e) {  // e.g. a checkpoint or snapshot that could not be written
     if (opt_.progress && tty_) std::fprintf(stderr, "\n");
-    write_run_json("failed", e.what());
+    try {  // a full disk may refuse run.json too: the first error is the one to report
+      write_run_json("failed", e.what());
+    } catch (const std::exception& e2) {
+      std::fprintf(stderr, "pbxmpm: run.json could not be marked failed either: %s\n", e2.what());
+    }
     throw;
   }
   last.t = solver_.time();
   report_progress(last, true);
   write_run_json("finished", "");
+}
+
+template <int D>
+void Runner<D>::stop_interrupted() {
+  const auto ckpt = std::filesystem::path(opt_.out_dir) / "checkpoint.h5";
+  const std::string msg = fmt::format(
+      "interrupted at step {} (t = {:.6g} s, {} history rows); continue with: pbxmpm run --restart {}",
+      solver_.step_count(), solver_.time(), rows_written_, ckpt.string());
+  write_run_json("interrupted", msg);
+  throw Interrupted(msg);
 }
 
 template class Runner<2>;

@@ -44,6 +44,12 @@ struct RunOptions {
   std::string study_json;       // {"group": ..., ...} when the run belongs to a study
   std::string deck_text, deck_name;  // stored in checkpoints to rebuild the scene on restart
   int checkpoint_every = 0;     // write DIR/checkpoint.h5 every this many history rows (0 = never)
+  // ... and at the first history row after this many wall seconds since the last one (0 = never):
+  // a long run loses at most this much to a crash or a kill -9.
+  double checkpoint_wall_s = 600;
+  // SIGINT/SIGTERM finish the run up to its next history row, write a checkpoint and run.json
+  // "interrupted", then throw Interrupted (a second signal stops at once).
+  bool catch_signals = true;
   // In a study: the run's place ("run 2/4"), shown in the progress lines with the ETA of the
   // study (this run's ETA plus `runs_after` more runs as long as this one is taking).
   std::string progress_label;
@@ -78,6 +84,8 @@ class Runner {
 
  private:
   void write_run_json(const std::string& status, const std::string& message) const;
+  void clear_previous_run() const;
+  void stop_interrupted();
   std::string this_and_earlier_versions() const;  // code versions of all segments, "; "-separated
   void report_progress(const Measurement& m, bool final);
   std::string first_non_finite_particle() const;
@@ -98,6 +106,8 @@ class Runner {
   long steps_unclocked_ = 0;  // steps made before a checkpoint that did not record its wall time
   int restarts_ = 0;
   std::string code_versions_;  // of the earlier segments, then this one
+  std::string run_id_;         // random at a fresh start, kept by restarts (run.json, checkpoint)
+  double last_checkpoint_wall_ = 0;
   int next_row_ = 0, next_snapshot_ = 0, rows_written_ = 0;
   bool resumed_ = false;
   bool tty_ = false;

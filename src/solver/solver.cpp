@@ -98,8 +98,8 @@ double Solver<D>::stable_time_step() const {
 
 // ------------------------------------------------------------------------------------- the step
 template <int D>
-void Solver<D>::step() {
-  dt_ = stable_time_step();
+void Solver<D>::step(double max_dt) {
+  dt_ = std::min(stable_time_step(), max_dt);
   rigid_p2g();
   switch (sc_.settings.integrator) {
     case Integrator::usf:

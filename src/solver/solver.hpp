@@ -21,7 +21,9 @@ class Solver {
  public:
   explicit Solver(Scene<D>& scene);
 
-  void step();
+  // One step of the stable size, or of max_dt if that is shorter (the last step of a run lands
+  // exactly on its end time).
+  void step(double max_dt = std::numeric_limits<double>::infinity());
 
   double time() const { return t_; }
   double dt() const { return dt_; }

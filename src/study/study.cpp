@@ -494,6 +494,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   int failed = 0, done = 0;
+  bool interrupted = false;
   for (const std::size_t i : reused) {
     const auto& r = s.runs[i];
     std::fprintf(stderr, "pbxmpm study: %s already finished, skipped (re-analysed)\n", r.id.c_str());
@@ -525,7 +526,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     try {
       fs::create_directories(dir);
       const std::string text = run_deck_text(s, r);
-      { std::ofstream(dir / "deck.toml") << text; }
+      write_text_atomically(dir / "deck.toml", text);
       Deck deck = run_deck(s, text, dir / "deck.toml");
       Scene<2> scene = build_scene<2>(deck);
       deck.check_unused();
@@ -581,6 +582,13 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       }
       fs::remove(ckpt);  // finished: the study never restarts it
       analyze_run_to_file(dir.string(), s.analysis);
+    } catch (const Interrupted& e) {
+      // the run saved a checkpoint: the study stops here, and the same command continues it
+      ++failed;
+      std::fprintf(stderr, "pbxmpm study: run %s %s; the study stops here: run the same `pbxmpm study` command to "
+                           "continue it\n", r.id.c_str(), e.what());
+      interrupted = true;
+      break;
     } catch (const InstabilityError& e) {
       // the run would fail the same way from its checkpoint: a rerun (after a fix) starts it over
       ++failed;
@@ -594,6 +602,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   }
   failed = mpi.sum(failed);
   mpi.barrier();
+  if (mpi.sum(interrupted ? 1 : 0) > 0) return kStudyInterrupted;
   if (mpi.rank == 0) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     int ran = 0;

@@ -64,6 +64,8 @@ std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size
 // What run_study returns when it started no run (an invalid or changed deck, a folder another
 // process writes, a study folder that cannot be written): the messages are on stderr.
 inline constexpr int kStudyNotStarted = -1;
+// run_study's result when a signal stopped it (the interrupted run saved a checkpoint).
+inline constexpr int kStudyInterrupted = -2;
 
 // Runs (or resumes) the study; returns the number of runs that failed, or kStudyNotStarted.
 int run_study(const StudySpec& s, const StudyOptions& opt);

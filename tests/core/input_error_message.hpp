@@ -15,4 +15,13 @@ inline std::string message_of(const std::function<void()>& f) {
   }
   return "";
 }
+// The same for an OutputError (a file that could not be written).
+inline std::string output_error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const OutputError& e) {
+    return e.what();
+  }
+  return "";
+}
 }  // namespace pbx::test

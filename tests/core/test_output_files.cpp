@@ -21,11 +21,11 @@ using pbx::test::message_of;
 // /dev/full accepts the open and fails every write with ENOSPC, as a full disk does.
 TEST(OutputFiles, CsvRowsThatCannotBeWrittenAreErrorsNamingTheFile) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  const std::string header = message_of([] { CsvWriter w("/dev/full", {"t_s", "strain"}); });
+  const std::string header = pbx::test::output_error_of([] { CsvWriter w("/dev/full", {"t_s", "strain"}); });
   EXPECT_NE(header.find("cannot write '/dev/full'"), std::string::npos) << header;
   EXPECT_NE(header.find("No space left"), std::string::npos) << header;
   CsvWriter append("/dev/full", {"t_s", "strain"}, true);  // a restart appends: no header is written
-  const std::string row = message_of([&] { append.row({0.0, 0.0}); });
+  const std::string row = pbx::test::output_error_of([&] { append.row({0.0, 0.0}); });
   EXPECT_NE(row.find("cannot write a row to '/dev/full'"), std::string::npos) << row;
 }
 
