@@ -39,7 +39,7 @@ FitResult fit_density_law(const std::vector<double>& rho, const std::vector<doub
   const FitParameter lk = fit["ln_k"];
   fit.params.front() = {"k", "", std::exp(lk.value), std::exp(lk.value) * lk.std_error, std::exp(lk.ci_low),
                         std::exp(lk.ci_high)};
-  fit.note = "sse/rmse/r2 are of ln(M/M^U)";
+  fit.note = fit.note.empty() ? std::string("sse/rmse/r2 are of ln(M/M^U)") : std::string("sse/rmse/r2 are of ln(M/M^U)") + "; " + fit.note;
   return fit;
 }
 

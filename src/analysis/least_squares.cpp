@@ -77,6 +77,14 @@ void set_confidence_intervals(FitResult& fit, const Eigen::MatrixXd& J) {
   fit.dof = fit.n - p;
   double t = kNaN;
   Eigen::MatrixXd cov = Eigen::MatrixXd::Constant(p, p, kNaN);
+  if (fit.dof <= 0) {
+    // as many parameters as points: the curve passes through every point and says nothing about
+    // its own uncertainty (the intervals stay NaN, and the fit says why)
+    const std::string why = fmt::format("no degrees of freedom ({} points for {} parameters): the fit passes through "
+                                        "every point, so no confidence interval can be given",
+                                        fit.n, p);
+    fit.note = fit.note.empty() ? why : fit.note + "; " + why;
+  }
   if (fit.dof > 0) {
     t = student_t_quantile(0.5 * (1.0 + fit.confidence), fit.dof);
     const double s2 = fit.sse / fit.dof;
@@ -156,6 +164,8 @@ FitResult linear_least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& 
   if (X.rows() < p) {
     throw InputError(fmt::format("linear least squares needs at least {} points, got {}", p, X.rows()));
   }
+  if (!X.allFinite() || !y.allFinite())
+    throw InputError("linear least squares: the data hold a value that is not a finite number (an overflow?)");
   FitResult fit;
   fit.method = "linear least squares (QR)";
   fit.confidence = confidence;
@@ -167,11 +177,12 @@ FitResult linear_least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& 
   fit.sse = r.squaredNorm();
   fit.rmse = std::sqrt(fit.sse / fit.n);
   const double sst = total_sum_of_squares(y);
-  fit.r2 = sst > 0 ? 1.0 - fit.sse / sst : 1.0;
+  fit.r2 = sst > 0 ? 1.0 - fit.sse / sst : sst == 0 ? 1.0 : kNaN;
   for (Eigen::Index k = 0; k < p; ++k) {
     fit.params.push_back({names[std::size_t(k)], units[std::size_t(k)], beta(k), 0, 0, 0});
   }
   set_confidence_intervals(fit, X);
+  fit.converged = beta.allFinite();
   return fit;
 }
 
@@ -183,6 +194,12 @@ FitResult levenberg_marquardt(const ResidualFunction& residuals, int n, const Ei
     throw InputError("levenberg_marquardt: inconsistent sizes");
   }
   if (n < p) throw InputError(fmt::format("nonlinear least squares needs at least {} points, got {}", p, n));
+  {
+    Eigen::VectorXd r0(n);
+    residuals(p0, r0, nullptr);
+    if (!r0.allFinite() || !y_for_r2.allFinite())
+      throw InputError("nonlinear least squares: the data hold a value that is not a finite number (an overflow?)");
+  }
   LmFunctor functor{residuals, n};
   Eigen::LevenbergMarquardt<LmFunctor> lm(functor);
   lm.parameters.ftol = 1e-14;
@@ -198,13 +215,14 @@ FitResult levenberg_marquardt(const ResidualFunction& residuals, int n, const Ei
   fit.converged = status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters &&
                   status != Eigen::LevenbergMarquardtSpace::TooManyFunctionEvaluation && x.allFinite();
   if (!fit.converged) fit.note = fmt::format("Levenberg-Marquardt stopped with status {}", int(status));
+  if (!x.allFinite()) fit.converged = false;
   Eigen::VectorXd r(n);
   Eigen::MatrixXd J(n, p);
   residuals(x, r, &J);
   fit.sse = r.squaredNorm();
   fit.rmse = std::sqrt(fit.sse / n);
   const double sst = total_sum_of_squares(y_for_r2);
-  fit.r2 = sst > 0 ? 1.0 - fit.sse / sst : 1.0;
+  fit.r2 = sst > 0 ? 1.0 - fit.sse / sst : sst == 0 ? 1.0 : kNaN;
   for (Eigen::Index k = 0; k < p; ++k) {
     fit.params.push_back({names[std::size_t(k)], units[std::size_t(k)], x(k), 0, 0, 0});
   }

@@ -51,7 +51,7 @@ FitResult fit_temperature_law_loglinear(const std::vector<double>& T_K, const st
     const double r = temperature_law(T_K[i], s0.value, fit["alpha"].value, T0_K) - strength_Pa[i];
     sse += r * r;
   }
-  fit.note = fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse);
+  fit.note = fit.note.empty() ? std::string(fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse)) : std::string(fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse)) + "; " + fit.note;
   return fit;
 }
 

@@ -89,8 +89,11 @@ double unit_factor(const std::string& column, const Dimension& dimension, const 
 void print_fit(const FitResult& f) {
   fmt::print("{}\n  method: {}\n", f.model, f.method);
   for (const auto& p : f.params) {
-    fmt::print("  {:>8} = {:.6g} {}  ({:.0f} % CI [{:.6g}, {:.6g}], SE {:.3g})\n", p.name, p.value, p.unit,
-               100 * f.confidence, p.ci_low, p.ci_high, p.std_error);
+    if (std::isfinite(p.ci_low) && std::isfinite(p.ci_high))
+      fmt::print("  {:>8} = {:.6g} {}  ({:.0f} % CI [{:.6g}, {:.6g}], SE {:.3g})\n", p.name, p.value, p.unit,
+                 100 * f.confidence, p.ci_low, p.ci_high, p.std_error);
+    else
+      fmt::print("  {:>8} = {:.6g} {}  (no confidence interval: see the note)\n", p.name, p.value, p.unit);
   }
   fmt::print("  n = {}, dof = {}, SSE = {:.6g}, R^2 = {:.6f}{}\n", f.n, f.dof, f.sse, f.r2,
              f.note.empty() ? "" : "\n  note: " + f.note);
@@ -99,7 +102,14 @@ void print_fit(const FitResult& f) {
 std::vector<double> scaled_column(const CsvTable& t, const std::string& name, const Dimension& d, const std::string& option) {
   std::vector<double> v = t.numbers(name);
   const double s = unit_factor(name, d, option);
-  for (auto& x : v) x *= s;
+  for (std::size_t r = 0; r < v.size(); ++r) {
+    const double raw = v[r];
+    v[r] *= s;
+    // 1e303 MPa is finite as written and infinite in Pa: refused here, not fitted into NaN
+    if (!std::isfinite(v[r]))
+      throw InputError(fmt::format("column '{}', data row {}: {:g} overflows when converted to SI units (x {:g})", name,
+                                   r + 1, raw, s));
+  }
   return v;
 }
 

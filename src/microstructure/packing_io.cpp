@@ -128,6 +128,7 @@ Packing read_packing(const std::string& dir) {
   Packing p;
   std::string line;
   int lineno = 0;
+  std::vector<int> grain_line;  // the file line of each grain, for the messages
   bool header = false;
   auto bad = [&](const std::string& what) {
     throw InputError(fmt::format("{}:{}: {}", file, lineno, what));
@@ -186,15 +187,40 @@ Packing read_packing(const std::string& dir) {
     g.mode = whole(f[6]);
     if (!(g.diameter > 0) || !(g.coat >= 0) || g.colour < 0) bad("diameter, coat or colour out of range");
     p.grains.push_back(g);
+    grain_line.push_back(lineno);
   }
   if (!(p.box.x() > 0 && p.box.y() > 0) || !(p.tatb_density > 0) || !(p.binder_density > 0))
     throw InputError(fmt::format("{}: the header lacks the box size or the phase densities", file));
+  const double box_max = std::max(p.box.x(), p.box.y());
   for (std::size_t i = 0; i < p.grains.size(); ++i) {
     const Grain& g = p.grains[i];
+    // a grain or coat larger than the box is a typo or a unit slip (mm written as m), and would
+    // pass the position check below for any centre
+    if (g.diameter > box_max || g.coat > box_max)
+      throw InputError(fmt::format("{}:{}: grain {} has diameter {} m and coat {} m, larger than the {} x {} m box", file,
+                                   grain_line[i], i, g.diameter, g.coat, p.box[0], p.box[1]));
     for (int d = 0; d < 2; ++d)
       if (g.centre[d] < -0.5 * g.diameter || g.centre[d] > p.box[d] + 0.5 * g.diameter)
         throw InputError(fmt::format("{}: grain {} at ({}, {}) m lies outside the {} x {} m box", file, i, g.centre[0],
                                      g.centre[1], p.box[0], p.box[1]));
+  }
+  // Two grains on the same centre (a row pasted twice) would stack two cores in one place, which
+  // no packing has; cores closer than a thousandth of the smaller radius count as the same place.
+  {
+    std::vector<std::size_t> order(p.grains.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.grains[a].centre.x() < p.grains[b].centre.x(); });
+    for (std::size_t a = 0; a < order.size(); ++a)
+      for (std::size_t b = a + 1; b < order.size(); ++b) {
+        const Grain &ga = p.grains[order[a]], &gb = p.grains[order[b]];
+        const double tol = 5e-4 * std::min(ga.diameter, gb.diameter);
+        if (gb.centre.x() - ga.centre.x() > tol) break;
+        if ((ga.centre - gb.centre).norm() <= tol) {
+          const auto [i, j] = std::minmax(order[a], order[b]);
+          throw InputError(fmt::format("{}:{}: grain {} has the centre of grain {} (line {}): a duplicated row?", file,
+                                       grain_line[j], j, i, grain_line[i]));
+        }
+      }
   }
   if (p.image.nx > 0) {
     p.source = "image";

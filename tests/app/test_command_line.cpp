@@ -89,6 +89,19 @@ TEST_F(CommandLine, FitRefusesUnreadableCellsUnstatedUnitsAndBadOptions) {
   expect_refused("fit curve " + curve + " --window 0.5:3:4", "--window: expected two finite numbers LO:HI");
 }
 
+// A value that overflows in SI units (1e303 MPa) is refused naming the column and row (the fit gave
+// NaN parameters with R^2 = 1, "converged"); a fit with as many points as parameters says it has
+// no confidence interval instead of printing NaN intervals without a word.
+TEST_F(CommandLine, FitRefusesOverflowAndSaysWhenItHasNoDegreesOfFreedom) {
+  const std::string big = write("big.csv", "T_K,strength_MPa\n293,1e303\n333,28.2\n353,24.1\n373,15.6\n");
+  expect_refused("fit temperature " + big, "column 'strength_MPa', data row 1: 1e+303 overflows when converted to SI units");
+  const std::string two = write("two.csv", "T_K,strength_MPa\n293,32.8\n373,15.6\n");
+  const Result r = pbxmpm("fit temperature " + two);
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("no degrees of freedom (2 points for 2 parameters)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
+}
+
 // analyze's numeric flags are checked, not ignored when out of range (they are read before the
 // run directory, so a missing directory does not hide the error).
 TEST_F(CommandLine, AnalyzeFlagsAreCheckedNotIgnored) {

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -234,6 +235,31 @@ TEST(Packing, EditedPackingFileIsReadStrictly) {
   EXPECT_NE(read_with_x("0.01").find("grain 0 at (0.01"), std::string::npos) << read_with_x("0.01");
   EXPECT_NE(read_with_x("0.0004abc").find("'0.0004abc' is not a finite number"), std::string::npos) << read_with_x("0.0004abc");
   EXPECT_NE(read_with_x("nan").find("'nan' is not a finite number"), std::string::npos) << read_with_x("nan");
+  // A grain of diameter 1e300 m passed the position check for any centre; a row pasted twice
+  // stacked two cores in one place. Both are refused naming the line.
+  auto read_text = [&](const std::string& text) {
+    std::ofstream(dir / "packing.csv") << text;
+    try {
+      read_packing(dir.string());
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const auto row_end = csv.find('\n', row);
+  const std::string first = csv.substr(row, row_end + 1 - row);  // "0,x,y,d,coat,colour,mode\n"
+  std::string huge = first;
+  {
+    std::size_t c = 0;
+    for (int k = 0; k < 3; ++k) c = huge.find(',', c) + 1;  // the diameter cell
+    huge.replace(c, huge.find(',', c) - c, "1e300");
+  }
+  const int line = static_cast<int>(std::count(csv.begin(), csv.begin() + static_cast<long>(row), '\n')) + 1;
+  const std::string big = read_text(csv.substr(0, row) + huge + csv.substr(row_end + 1));
+  EXPECT_NE(big.find(fmt::format("packing.csv:{}: grain 0 has diameter 1e+300 m", line)), std::string::npos) << big;
+  const std::string dup = read_text(csv + first);
+  EXPECT_NE(dup.find("has the centre of grain 0 (line " + std::to_string(line) + "): a duplicated row?"), std::string::npos) << dup;
+  EXPECT_EQ(read_text(csv), "(no error)");
   std::filesystem::remove_all(dir);
 }
 
