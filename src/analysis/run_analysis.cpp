@@ -169,6 +169,8 @@ Json AnalysisOptions::to_json() const {
 Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   opt.validate();
   const fs::path dir(run_dir);
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw InputError(fmt::format("'{}' is a file: give the run's folder (the one holding run.json and history.csv)", run_dir));
   if (!fs::is_directory(dir)) throw InputError(fmt::format("run directory '{}' does not exist", run_dir));
   const fs::path run_json = dir / "run.json", history = dir / "history.csv";
   if (!fs::exists(run_json)) throw InputError(fmt::format("{}: missing (written by 'pbxmpm run')", run_json.string()));

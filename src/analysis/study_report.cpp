@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <sys/wait.h>
+
 #include <fmt/format.h>
 
 #include "analysis/report_files.hpp"
@@ -42,7 +44,12 @@ std::string build_report(const std::string& study_dir, const ReportOptions& opt)
                                       quoted(study_dir), quoted(out.string()), quoted(paper));
   const int rc = std::system(cmd.c_str());
   if (rc != 0) {
-    throw std::runtime_error(fmt::format("the report script failed (exit status {}): {}", rc, cmd));
+    // std::system returns a wait status (256 for exit code 1): say what it means
+    const std::string how = rc == -1               ? "could not be started"
+                            : WIFEXITED(rc)        ? fmt::format("exited with code {}", WEXITSTATUS(rc))
+                            : WIFSIGNALED(rc)      ? fmt::format("was killed by signal {}", WTERMSIG(rc))
+                                                   : fmt::format("ended with status {}", rc);
+    throw std::runtime_error(fmt::format("the report script {} (its messages are above): {}", how, cmd));
   }
   return out.string();
 }

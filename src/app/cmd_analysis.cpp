@@ -41,7 +41,9 @@ std::pair<double, double> range_option(const std::string& text, const std::strin
 
 // A quantity given on the command line, which must be finite and > 0.
 double quantity_option(const std::string& text, const Dimension& d, const std::string& option) {
-  const double v = to_si(text, d, option);
+  // a plain number is in SI units, as in the decks ("293" is 293 K)
+  const auto plain = parse_finite(text);
+  const double v = plain ? *plain : to_si(text, d, option);
   if (!(v > 0) || !std::isfinite(v)) throw InputError(fmt::format("{}: must be a finite quantity > 0 (got '{}')", option, text));
   return v;
 }

@@ -101,7 +101,7 @@ void register_material(CLI::App& app) {
   c->add_option("--rate", o->rate, "strain rate magnitude, 1/s (number or quantity such as '250 1/s')");
   c->add_option("--temperature", o->temperature, "run temperature, K (default 293)");
   c->add_option("--duration", o->duration, "loading time (default |strain|/rate); step_shear: hold time, s");
-  c->add_option("--steps", o->steps, "number of steps / output times (default 1000)");
+  c->add_option("--steps", o->steps, "number of steps / output times (default 1000)")->check(CLI::Range(1, 10000000));
   c->add_option("--out", o->out, "CSV output file (default: standard output)");
   c->callback([o] { run_material(*o); });
 }

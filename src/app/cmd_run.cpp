@@ -11,6 +11,7 @@
 
 #include "io/checkpoint.hpp"
 #include "solver/runner.hpp"
+#include "study/study.hpp"
 
 namespace pbx::app {
 
@@ -106,9 +107,18 @@ void register_run(CLI::App& app) {
   });
 
   auto check_file = std::make_shared<std::string>();
-  auto* check = app.add_subcommand("check", "Validate a deck without running it");
+  auto* check = app.add_subcommand("check", "Validate a run deck or a study deck (every run's deck) without running it");
   check->add_option("deck", *check_file, "TOML deck")->required()->check(CLI::ExistingFile);
   check->callback([check_file] {
+    // a study deck is checked as `pbxmpm study` checks it before its first run: every run's deck
+    // built, every specimen packed
+    if (Deck::from_file(*check_file).root().has("study")) {
+      const StudySpec s = read_study(*check_file);
+      const int n = check_study(s);
+      std::printf("%s: valid study '%s': %d runs over base deck %s, every run deck builds\n", check_file->c_str(),
+                  s.name.c_str(), n, s.base_deck.c_str());
+      return;
+    }
     Deck deck = Deck::from_string("", "");
     Scene<2> scene = load(*check_file, deck);
     std::printf("%s: valid. %zu particles in %zu materials, %d deformable fields, %zu rigid bodies, "

@@ -24,10 +24,25 @@ int main(int argc, char** argv) {
   pbx::app::register_pack(app);
   pbx::app::register_analysis(app);
   pbx::app::register_study(app);
+  // A misspelt command would otherwise be reported as "A subcommand is required".
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "pbxmpm: unknown command '%s' (the commands: %s; see pbxmpm --help)\n", argv[1], names.c_str());
+      return 2;
+    }
+  }
+  // Exit codes (README, "Exit codes"): 0 done, 1 other error, 2 bad input or usage, 3 run stopped
+  // unstable, 4 an output file could not be written, 130 interrupted (a checkpoint was saved).
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 2;  // CLI11's own codes (105, 106, ...) are usage errors
   } catch (const pbx::InputError& e) {
     std::fprintf(stderr, "pbxmpm: input error: %s\n", e.what());
     return 2;

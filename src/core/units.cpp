@@ -74,6 +74,8 @@ Quantity parse_quantity(std::string_view text) {
   skip();
   double value = 0;
   auto [ptr, ec] = std::from_chars(text.data() + i, text.data() + text.size(), value);
+  if (ec == std::errc::result_out_of_range)
+    throw InputError(fmt::format("the number in '{}' is beyond the range of a double (about 1e308)", text));
   if (ec != std::errc()) throw InputError(fmt::format("'{}' does not start with a number", text));
   i = static_cast<std::size_t>(ptr - text.data());
   skip();
@@ -134,6 +136,8 @@ double to_si(std::string_view text, const Dimension& expected, std::string_view 
   if (!(q.dimension == expected))
     throw InputError(fmt::format("{}: '{}' has units of {}, expected {}", what, text,
                                  q.dimension.si_unit(), expected.si_unit()));
+  if (!std::isfinite(q.value))
+    throw InputError(fmt::format("{}: '{}' overflows when converted to SI units ({})", what, text, expected.si_unit()));
   return q.value;
 }
 

@@ -2,6 +2,8 @@
 // incremental rotation, sigma_n+1 = R sigma_n R^T + (lambda tr(D) I + 2 G D) dt.
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "io/deck.hpp"
 #include "materials/models.hpp"
 #include "materials/objective_rotation.hpp"
@@ -77,8 +79,15 @@ class LinearElastic final : public Material<D> {
 template <int D>
 std::unique_ptr<Material<D>> make_linear_elastic(const DeckTable& t, const MaterialContext&) {
   const double rho = t.positive("density", dim::density);
+  // the densest element is 22,590 kg/m3: far above it is a unit slip (g/cm3 written as kg/m3 x 1000)
+  if (rho > 1e5) t.fail("density", fmt::format("{} kg/m3 exceeds 1e5 kg/m3 (100 g/cm3): check the unit", rho));
   double K, G;
-  if (t.has("youngs_modulus") || t.has("poisson_ratio")) {
+  const bool en = t.has("youngs_modulus") || t.has("poisson_ratio"), kg = t.has("bulk_modulus") || t.has("shear_modulus");
+  // two definitions of one elasticity: neither may be ignored (it was reported as an unknown key)
+  if (en && kg)
+    t.fail(t.has("bulk_modulus") ? "bulk_modulus" : "shear_modulus",
+           "give bulk_modulus and shear_modulus, or youngs_modulus and poisson_ratio, not both pairs");
+  if (en) {
     const double E = t.positive("youngs_modulus", dim::pressure);
     const double nu = t.number("poisson_ratio");
     if (!(nu > -1.0 && nu < 0.5)) t.fail("poisson_ratio", "must lie in (-1, 0.5)");

@@ -33,6 +33,8 @@ SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx) {
     throw InputError(fmt::format("material '{}': temperature must be > 0 K (got {})", s.name, s.temperature));
   s.reference_temperature = t.positive("reference_temperature", dim::temperature, 293.0);
   const double rho_ref = t.positive("density", dim::density);
+  // the densest element is 22,590 kg/m3: far above it is a unit slip (g/cm3 written as kg/m3 x 1000)
+  if (rho_ref > 1e5) t.fail("density", fmt::format("{} kg/m3 exceeds 1e5 kg/m3 (100 g/cm3): check the unit", rho_ref));
   const double alpha_v = t.quantity("thermal_expansion", dim::per_temperature, 0.0);
   // The expansion law is meant for tens of kelvin around the reference: a run temperature that
   // changes the density by more than 20 % is a slip (a unit, a sign), not a state to compute.

@@ -162,6 +162,8 @@ Scene<D> build_scene(const Deck& deck) {
     if (!(sc.settings.cfl > 0 && sc.settings.cfl < 1)) s->fail("cfl", "must lie in (0, 1)");
     sc.settings.mass_scaling = s->number("mass_scaling", 1.0);
     if (!(sc.settings.mass_scaling >= 1.0)) s->fail("mass_scaling", "must be >= 1");
+    // beyond 1e4 the wave speed falls 100-fold and no die run stays quasi-static
+    if (!(sc.settings.mass_scaling <= 1e4)) s->fail("mass_scaling", "must be <= 10000");
     sc.settings.gravity = read_vec<D>(*s, "gravity", dim::acceleration, Vec<D>::Zero());
   }
 

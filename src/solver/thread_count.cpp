@@ -1,5 +1,7 @@
 #include "solver/thread_count.hpp"
 
+#include "core/error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -59,7 +61,12 @@ ThreadChoice choose_threads(int requested, std::size_t particles) {
   if (omp_env) {
     const std::string first = std::string(env).substr(0, std::string(env).find(','));
     const auto v = parse_finite(first);
-    if (v && *v >= 1 && *v <= 1024 && std::floor(*v) == *v) omp_default = static_cast<int>(*v);
+    // a value OpenMP cannot read ("abc", "0") would leave its own count without a word
+    if (!(v && *v >= 1 && *v <= 1024 && std::floor(*v) == *v))
+      throw InputError(fmt::format("OMP_NUM_THREADS='{}' is not a thread count (a whole number 1 to 1024, optionally "
+                                   "followed by ',N' for nested levels); unset it or fix it",
+                                   env));
+    omp_default = static_cast<int>(*v);
   }
   return choose_threads(requested, particles, omp_env, omp_default, omp_get_num_procs(), local);
 }

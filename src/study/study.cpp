@@ -170,11 +170,22 @@ StudySpec read_study(const std::string& file) {
   s.name = st.string("name");
   s.base_deck = fs::absolute(deck.resolve(st.string("base"))).string();
   {
+    // a folder opens as an empty stream and the study itself parses as a deck: both failed only
+    // when the first run was built ("grid: required table missing"), after the study's files were written
+    std::error_code ec;
+    if (fs::is_directory(s.base_deck, ec)) st.fail("base", fmt::format("'{}' is a folder, not a run deck", s.base_deck));
+    if (fs::equivalent(s.base_deck, file, ec)) st.fail("base", "names this study deck itself; give the run deck the study varies");
     std::ifstream in(s.base_deck);
     if (!in) st.fail("base", fmt::format("cannot open base deck '{}'", s.base_deck));
     std::stringstream ss;
     ss << in.rdbuf();
     s.base_text = ss.str();
+    try {
+      if (toml::parse(s.base_text, s.base_deck).contains("study"))
+        st.fail("base", fmt::format("'{}' is a study deck ([study]); give the run deck the study varies", s.base_deck));
+    } catch (const toml::parse_error&) {
+      // reported with its line when the runs are built
+    }
   }
   // study.seeds for every group; a group's own `seeds` replaces them for its runs (e.g. more
   // microstructures where the specimen-to-specimen scatter matters)
@@ -380,6 +391,16 @@ std::vector<std::size_t> runs_of_rank(const std::vector<bool>& pending, int size
   for (std::size_t i = 0; i < pending.size(); ++i)
     if (pending[i] && k++ % size == rank) mine.push_back(i);
   return mine;
+}
+
+int check_study(const StudySpec& s) {
+  for (const auto& r : s.runs) {
+    const std::string text = run_deck_text(s, r);
+    Deck deck = run_deck(s, text, fs::path("runs") / r.id / "deck.toml");
+    Scene<2> scene = build_scene<2>(deck);
+    deck.check_unused();
+  }
+  return static_cast<int>(s.runs.size());
 }
 
 int run_study(const StudySpec& s, const StudyOptions& opt) {

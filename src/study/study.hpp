@@ -41,6 +41,9 @@ bool is_folder_name(const std::string& name);
 
 // The base deck with the run's overrides applied, as TOML text.
 std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r);
+// Builds every run's deck and scene (specimens packed) as the study would before its first run;
+// throws InputError naming the run deck's key. Returns the number of runs.
+int check_study(const StudySpec& s);
 
 struct StudyOptions {
   std::string out_dir;

@@ -102,6 +102,60 @@ TEST_F(CommandLine, FitRefusesOverflowAndSaysWhenItHasNoDegreesOfFreedom) {
   EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
 }
 
+// The messages a hostile user found unclear (issue 24), each now naming its cause.
+TEST_F(CommandLine, ErrorsNameTheirCause) {
+  std::ifstream in(fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml");
+  const std::string demo((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto variant = [&](const std::string& name, const std::string& from, const std::string& to) {
+    std::string t = demo;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) t.replace(at, from.size(), to);
+    return write(name, t);
+  };
+  const std::string both = variant("both.toml", "shear_modulus = \"11.5 GPa\"",
+                                   "shear_modulus = \"11.5 GPa\"\nyoungs_modulus = \"20 GPa\"\npoisson_ratio = 0.2");
+  expect_refused("check " + both, "give bulk_modulus and shear_modulus, or youngs_modulus and poisson_ratio, not both pairs");
+  expect_refused("check " + variant("big.toml", "cell_size = \"20 um\"", "cell_size = \"1e999 um\""),
+                 "grid.cell_size: the number in '1e999 um' is beyond the range of a double");
+  expect_refused("check " + variant("rho.toml", "density = \"1.934 g/cm3\"", "density = 1e308"),
+                 "materials.block.density: 1e+308 kg/m3 exceeds 1e5 kg/m3");
+  expect_refused("check " + variant("ms.toml", "mass_scaling = 10", "mass_scaling = 1e9"), "solver.mass_scaling: must be <= 10000");
+  expect_refused("rnu " + both, "unknown command 'rnu' (the commands: run, check");
+  EXPECT_EQ(pbxmpm("run --threads 0 " + both).code, 2) << "a usage error exits 2, not CLI11's 105";
+  expect_refused("analyze " + both, "is a file: give the run's folder");
+  expect_refused("material " + both + " --material block --path uniaxial_strain --strain -0.01 --rate 100 --steps 100000000000",
+                 "--steps");
+  const std::string cmd = fmt::format("OMP_NUM_THREADS=abc '{}' run {} -q --out {} 2>&1",
+                                      PBXMPM_BINARY, (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string(),
+                                      (dir / "omp2").string());
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[512];
+  while (p && fgets(buf, sizeof buf, p)) out += buf;
+  const int status = p ? pclose(p) : -1;
+  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
+  EXPECT_NE(out.find("OMP_NUM_THREADS='abc' is not a thread count"), std::string::npos) << out;
+  // a plain number is SI, as in the decks
+  const std::string two = write("two.csv", "T_K,strength_MPa\n293,32.8\n333,28.2\n373,15.6\n");
+  EXPECT_EQ(pbxmpm("fit temperature " + two + " --T0 293").code, 0);
+  // a study whose base is a folder or a study deck is refused before anything is written
+  const std::string s1 = write("s1.toml", "[study]\nname = \"x\"\nbase = \".\"\n[[study.group]]\nname = \"a\"\n"
+                                          "key = \"solver.mass_scaling\"\nvalues = [10]\n");
+  expect_refused("study " + s1 + " --out " + (dir / "s1").string(), "' is a folder, not a run deck");
+  EXPECT_FALSE(fs::exists(dir / "s1"));
+  const std::string s2 = write("s2.toml", "[study]\nname = \"x\"\nbase = \"s2.toml\"\n[[study.group]]\nname = \"a\"\n"
+                                          "key = \"solver.mass_scaling\"\nvalues = [10]\n");
+  expect_refused("study " + s2 + " --out " + (dir / "s2").string(), "study.base: names this study deck itself");
+}
+
+// `pbxmpm check` validates the README's own study deck as the study would (every run deck built).
+TEST_F(CommandLine, CheckValidatesAStudyDeck) {
+  const Result r = pbxmpm("check " + (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "quick.toml").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("valid study 'paper-quick': 13 runs"), std::string::npos) << r.output;
+}
+
 // analyze's numeric flags are checked, not ignored when out of range (they are read before the
 // run directory, so a missing directory does not hide the error).
 TEST_F(CommandLine, AnalyzeFlagsAreCheckedNotIgnored) {
