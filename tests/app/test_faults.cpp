@@ -22,6 +22,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "../engine/block_deck.hpp"
+
 extern char** environ;
 
 namespace fs = std::filesystem;
@@ -58,35 +60,12 @@ std::string slurp(const fs::path& p) {
 // history about 80 kB: a 300 kB file-size limit lets the history through and stops the checkpoint).
 std::string column_deck(double end_strain = 0.006, double mass_scaling = 100, int snapshots = 0, int rows = 201,
                         double ramp_strain = 0.004) {
-  return fmt::format(R"(
-[run]
-end_strain = {}
-history_points = {}
-snapshots = {}
-[grid]
-cell_size = "10 um"
-shape_function = "ugimp"
-particles_per_cell = 2
-[solver]
-integrator = "usl"
-cfl = 0.4
-mass_scaling = {}
-[die]
-width = "0.2 mm"
-height = "0.48 mm"
-punch_velocity = "0.3 m/s"
-ramp_strain = {}
-[materials.block]
-model = "linear_elastic"
-density = "1.934 g/cm3"
-bulk_modulus = "10.59 GPa"
-shear_modulus = "11.5 GPa"
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.2 mm", "0.48 mm"]
-material = "block"
-)",
-                     end_strain, rows, snapshots, mass_scaling, ramp_strain);
+  std::string d = pbx::test::block_deck(mass_scaling, end_strain, "usl", "ugimp", 0.2, 0.48);
+  auto set = [&](const std::string& from, const std::string& to) { d.replace(d.find(from), from.size(), to); };
+  set("snapshots = 0", fmt::format("snapshots = {}", snapshots));
+  set("history_points = 201", fmt::format("history_points = {}", rows));
+  set("ramp_strain = 0.004", fmt::format("ramp_strain = {}", ramp_strain));
+  return d;
 }
 
 std::string json_status(const fs::path& run_json) {
