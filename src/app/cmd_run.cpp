@@ -1,5 +1,8 @@
 // `pbxmpm run DECK` and `pbxmpm check DECK`.
+#include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -7,6 +10,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "io/deck.hpp"
+#include "io/deck_override.hpp"
 #include <filesystem>
 
 #include "io/checkpoint.hpp"
@@ -19,14 +23,27 @@ namespace {
 
 struct RunArgs {
   std::string deck, out = "out/run", restart;
+  std::vector<std::string> set;
   int threads = 0, checkpoint_every = 0;
   double checkpoint_minutes = 10;
   bool quiet = false;
 };
 
 
-Scene<2> load(const std::string& file, Deck& deck) {
-  deck = Deck::from_file(file);
+// The deck file with --set overrides applied; relative paths in it still resolve beside the file.
+Deck deck_from_file_with(const std::string& file, const std::vector<std::string>& set) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("cannot open deck '{}'", file));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<DeckOverride> ov;
+  for (const auto& s : set) ov.push_back(parse_override_option(s));
+  // messages give lines of the rewritten deck, so they name it as such
+  return Deck::from_string(deck_with_overrides(text, file, ov), file + " (as rewritten by --set)",
+                           std::filesystem::path(file).parent_path().string());
+}
+
+Scene<2> load(const std::string& file, const std::vector<std::string>& set, Deck& deck) {
+  deck = set.empty() ? Deck::from_file(file) : deck_from_file_with(file, set);
   Scene<2> scene = build_scene<2>(deck);
   deck.check_unused();
   return scene;
@@ -51,6 +68,9 @@ void register_run(CLI::App& app) {
                   "continue the run saved in this checkpoint, in the checkpoint's folder (its deck, its history.csv)")
       ->check(CLI::ExistingFile);
   run->add_option("--threads,-t", args->threads, "OpenMP threads (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores)")->check(CLI::Range(1, 1024));
+  run->add_option("--set", args->set,
+                  "override a deck key before the run, KEY=VALUE in TOML (e.g. --set 'grid.cell_size=\"10 um\"'); "
+                  "repeatable; checked like the deck, and saved in run.json and the checkpoint");
   run->add_flag("--quiet,-q", args->quiet, "no progress display");
   run->callback([args, run] {
     if (args->out.empty())
@@ -61,6 +81,8 @@ void register_run(CLI::App& app) {
     if (!args->restart.empty()) {
       // the checkpoint carries its deck: a deck given beside it would be ignored, and an edited one
       // taken for the one in effect
+      if (!args->set.empty())
+        throw InputError("pbxmpm run: --set with --restart: the run continues with the deck saved in its checkpoint");
       if (!args->deck.empty())
         throw InputError(fmt::format("pbxmpm run: give a deck or --restart CHECKPOINT, not both (the run continues "
                                      "with the deck saved in '{}')",
@@ -84,8 +106,10 @@ void register_run(CLI::App& app) {
       args->out = folder;
     } else if (args->deck.empty()) {
       throw InputError("pbxmpm run: give a deck, or --restart CHECKPOINT");
-    } else {
+    } else if (args->set.empty()) {
       deck = Deck::from_file(args->deck);
+    } else {
+      deck = deck_from_file_with(args->deck, args->set);
     }
     Scene<2> scene = build_scene<2>(deck);
     deck.check_unused();
@@ -103,16 +127,25 @@ void register_run(CLI::App& app) {
     std::fprintf(stderr, "pbxmpm: %s%s: %zu particles, %ld x %ld nodes, %d fields, end time %.4g s -> %s\n",
                  args->restart.empty() ? "" : "restart of ", deck_name.c_str(), scene.particles.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.fields,
                  scene.control.end_time, args->out.c_str());
+    const auto t0 = std::chrono::steady_clock::now();
     runner.run();
+    // one closing line: what happened, how long, where the results are
+    std::fprintf(stderr, "pbxmpm: finished: %ld steps in %.1f s; results in %s (history.csv, run.json%s)\n",
+                 runner.solver().step_count(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), args->out.c_str(),
+                 scene.control.snapshots > 0 ? ", snapshots/snapshots.xmf" : "");
   });
 
   auto check_file = std::make_shared<std::string>();
+  auto check_set = std::make_shared<std::vector<std::string>>();
   auto* check = app.add_subcommand("check", "Validate a run deck or a study deck (every run's deck) without running it");
   check->add_option("deck", *check_file, "TOML deck")->required()->check(CLI::ExistingFile);
-  check->callback([check_file] {
+  check->add_option("--set", *check_set, "override a run deck's key, KEY=VALUE in TOML, as pbxmpm run --set");
+  check->callback([check_file, check_set] {
     // a study deck is checked as `pbxmpm study` checks it before its first run: every run's deck
     // built, every specimen packed
     if (Deck::from_file(*check_file).root().has("study")) {
+      if (!check_set->empty()) throw InputError("pbxmpm check: --set applies to run decks (a study sets keys in [study.set])");
       const StudySpec s = read_study(*check_file);
       const int n = check_study(s);
       std::printf("%s: valid study '%s': %d runs over base deck %s, every run deck builds\n", check_file->c_str(),
@@ -120,7 +153,7 @@ void register_run(CLI::App& app) {
       return;
     }
     Deck deck = Deck::from_string("", "");
-    Scene<2> scene = load(*check_file, deck);
+    Scene<2> scene = load(*check_file, *check_set, deck);
     std::printf("%s: valid. %zu particles in %zu materials, %d deformable fields, %zu rigid bodies, "
                 "grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n",
                 check_file->c_str(), scene.particles.size(), scene.materials.size(), scene.deformable_fields,

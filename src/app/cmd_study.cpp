@@ -9,6 +9,7 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "io/deck_override.hpp"
 #include "study/study.hpp"
 #include "study/study_status.hpp"
 
@@ -17,7 +18,7 @@ namespace pbx::app {
 void register_study(CLI::App& app) {
   struct Args {
     std::string deck, out;
-    std::vector<std::string> only;
+    std::vector<std::string> only, set;
     int threads = 0, checkpoint_every = 10;
     bool no_report = false, quiet = false;
   };
@@ -34,12 +35,29 @@ void register_study(CLI::App& app) {
                  "continues from it when the study is started again")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
+  st->add_option("--set", a->set,
+                 "override a key of every run deck, KEY=VALUE in TOML (after [study.set]; a key a group varies is refused); "
+                 "repeatable");
   st->add_flag("--no-report", a->no_report, "skip the report at the end");
   st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");
   st->callback([a, st] {
     if (st->count("--out") > 0 && a->out.empty())
       throw InputError("--out: an empty folder name (an unset shell variable?); give a folder, or leave --out out for out/<study name>");
     StudySpec s = read_study(a->deck);
+    // command-line overrides come after the study's [study.set] and before the groups' own keys
+    // would: a key a group varies cannot be overridden for all runs
+    for (const auto& text : a->set) {
+      const DeckOverride ov = parse_override_option(text);
+      if (ov.first == "specimen.seed" || ov.first == "packing.seed")
+        throw InputError(fmt::format("--set '{}': a study gives each run its seed (study.seeds or a group's seeds)", ov.first));
+      for (auto& r : s.runs) {
+        // a run's overrides end with its group's key and its seed (study.cpp, read_study)
+        if (r.set.size() < 2) throw std::logic_error("a study run without its group key and seed");
+        if (r.set[r.set.size() - 2].first == ov.first)
+          throw InputError(fmt::format("--set '{}': group '{}' varies this key", ov.first, r.group));
+        r.set.insert(r.set.end() - 2, ov);
+      }
+    }
     StudyOptions o;
     if (a->out.empty() && !is_folder_name(s.name))
       throw InputError(fmt::format("study.name '{}' would name the default output folder out/<name>: give --out, or "

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -147,6 +148,34 @@ TEST_F(CommandLine, ErrorsNameTheirCause) {
   const std::string s2 = write("s2.toml", "[study]\nname = \"x\"\nbase = \"s2.toml\"\n[[study.group]]\nname = \"a\"\n"
                                           "key = \"solver.mass_scaling\"\nvalues = [10]\n");
   expect_refused("study " + s2 + " --out " + (dir / "s2").string(), "study.base: names this study deck itself");
+}
+
+// --set overrides a key of the deck before it is read, so the override is checked like the deck
+// (an unknown key, a value that is not TOML, a key a study group varies are refused) and the run
+// records it; one closing line says where the results are.
+TEST_F(CommandLine, SetOverridesADeckKeyCheckedLikeTheDeck) {
+  const std::string demo = (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string();
+  const fs::path out = dir / "set";
+  const Result r = pbxmpm(fmt::format("run {} --set run.end_strain=0.004 --set solver.mass_scaling=100 --out {} -q", demo, out.string()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("pbxmpm: finished: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("results in " + out.string()), std::string::npos) << r.output;
+  std::ifstream h(out / "history.csv");
+  std::string line, last;
+  while (std::getline(h, line)) last = line;
+  std::vector<std::string> cells;
+  for (std::size_t a = 0, b = 0; b != std::string::npos; a = b + 1) {
+    b = last.find(',', a);
+    cells.push_back(last.substr(a, b == std::string::npos ? std::string::npos : b - a));
+  }
+  ASSERT_GT(cells.size(), 3u);
+  EXPECT_EQ(cells[3], "0.004") << "the strain of the last row: " << last;
+  expect_refused(fmt::format("check {} --set 'grid.cel_size=\"10 um\"'", demo), "(as rewritten by --set):9: unknown key 'grid.cel_size'");
+  expect_refused(fmt::format("check {} --set 'grid.cell_size=10 um'", demo), "--set 'grid.cell_size': cannot read value '10 um'");
+  expect_refused(fmt::format("check {} --set novalue", demo), "--set 'novalue': expected KEY=VALUE");
+  const std::string quick = (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "quick.toml").string();
+  expect_refused(fmt::format("study {} --set 'run.temperature=\"300 K\"' --out {} --no-report", quick, (dir / "q").string()),
+                 "--set 'run.temperature': group 'temperature' varies this key");
 }
 
 // `pbxmpm check` validates the README's own study deck as the study would (every run deck built).
