@@ -664,8 +664,15 @@ void Solver<D>::stop_on_bad_stress(std::uint32_t p) const {
     const std::string why = sc_.materials[P.material[p]]->failure_reason(J);
     what = fmt::format("a non-finite stress at J = {:.4g}{}{}", J, why.empty() ? "" : ": ", why);
   }
-  throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}",
-                                     steps_, t_, p, sc_.material_names[P.material[p]], P.x[p][0], P.x[p][1], what));
+  // the step's scale beside it: a particle or body that crossed much of a cell in one step is
+  // the usual cause (a too-fast punch, a mass scaling too large for the loading)
+  double body_speed = 0;
+  for (const auto& b : sc_.bodies) body_speed = std::max(body_speed, b.velocity.norm());
+  throw InstabilityError(fmt::format(
+      "step {} (t = {:.6g} s, dt = {:.4g} s): particle {} of material '{}' at ({:.6g}, {:.6g}) m has {}; in this "
+      "step the fastest particle moved {:.3g} cells, the fastest rigid body {:.3g} cells (mass scaling {:g})",
+      steps_, t_, dt_, p, sc_.material_names[P.material[p]], P.x[p][0], P.x[p][1], what, vmax_ * dt_ / sc_.grid.h,
+      body_speed * dt_ / sc_.grid.h, sc_.settings.mass_scaling));
 }
 
 template class Solver<2>;
