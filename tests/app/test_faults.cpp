@@ -4,6 +4,7 @@
 // holds: a result file is complete or absent, a damaged file is refused by name, and a resumed run
 // ends with the uninterrupted run's history, byte for byte. Runs are a small elastic column in the
 // die (3,840 particles, 0.2-2 s each).
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -305,7 +306,13 @@ TEST_F(Faults, CtrlCSavesACheckpointThatResumesBitForBit) {
   ASSERT_EQ(shell(fmt::format("{{pbx}} run {} --out {} -q", deck, ref.string())).code, 0);
   const pid_t pid = spawn({"run", deck, "--out", run.string(), "-q"}, log);
   ASSERT_GT(pid, 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  // the signal once the time loop runs (a few rows written), not while the process starts: a
+  // loaded machine must not turn the test into one of process start-up
+  for (int k = 0; k < 1000; ++k) {
+    const std::string h = slurp(run / "history.csv");
+    if (std::count(h.begin(), h.end(), '\n') >= 5) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   kill(pid, SIGINT);
   ASSERT_EQ(wait_code(pid), 130) << slurp(log);
   EXPECT_EQ(json_status(run / "run.json"), "interrupted");
