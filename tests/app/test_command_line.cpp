@@ -17,52 +17,25 @@
 #include <gtest/gtest.h>
 
 #include "../engine/block_deck.hpp"
+#include "binary_test.hpp"
 #include "io/output_lock.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
+using pbx::test::pbxmpm;
+using pbx::test::Result;
 
-Result pbxmpm(const std::string& args) {
-  const std::string cmd = fmt::format("'{}' {} 2>&1", PBXMPM_BINARY, args);
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-class CommandLine : public ::testing::Test {
+class CommandLine : public pbx::test::BinaryTest {
  protected:
-  void SetUp() override {
-    if (!fs::exists(PBXMPM_BINARY)) GTEST_SKIP() << "pbxmpm is not built";
-    dir = fs::temp_directory_path() / ("pbx_test_cli_" + std::to_string(::getpid()) + "_" +
-                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
+  CommandLine() : BinaryTest("pbx_test_cli_") {}
   // expects a failure (exit code != 0) whose output contains `what`
   void expect_refused(const std::string& args, const std::string& what) const {
     const Result r = pbxmpm(args);
     EXPECT_NE(r.code, 0) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(what), std::string::npos) << args << "\nexpected '" << what << "' in:\n" << r.output;
   }
-  fs::path dir;
 };
 
 }  // namespace
@@ -127,16 +100,11 @@ TEST_F(CommandLine, ErrorsNameTheirCause) {
   expect_refused("analyze " + both, "is a file: give the run's folder");
   expect_refused("material " + both + " --material block --path uniaxial_strain --strain -0.01 --rate 100 --steps 100000000000",
                  "--steps");
-  const std::string cmd = fmt::format("OMP_NUM_THREADS=abc '{}' run {} -q --out {} 2>&1",
-                                      PBXMPM_BINARY, (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string(),
-                                      (dir / "omp2").string());
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[512];
-  while (p && fgets(buf, sizeof buf, p)) out += buf;
-  const int status = p ? pclose(p) : -1;
-  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
-  EXPECT_NE(out.find("OMP_NUM_THREADS='abc' is not a thread count"), std::string::npos) << out;
+  const pbx::test::Result omp = pbx::test::shell(fmt::format(
+      "OMP_NUM_THREADS=abc {{pbx}} run {} -q --out {}", (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string(),
+      (dir / "omp").string()));
+  EXPECT_EQ(omp.code, 2) << omp.output;
+  EXPECT_NE(omp.output.find("OMP_NUM_THREADS='abc' is not a thread count"), std::string::npos) << omp.output;
   // a plain number is SI, as in the decks
   const std::string two = write("two.csv", "T_K,strength_MPa\n293,32.8\n333,28.2\n373,15.6\n");
   EXPECT_EQ(pbxmpm("fit temperature " + two + " --T0 293").code, 0);

@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include "../engine/block_deck.hpp"
+#include "binary_test.hpp"
 
 extern char** environ;
 
@@ -31,26 +32,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;  // exit code, or 128 + signal when the process was killed by one
-  std::string output;
-};
-
-// Runs a shell command line (pbxmpm's path is put in for {pbx}), with stdout and stderr captured.
-Result shell(const std::string& line) {
-  std::string cmd = line;
-  for (auto at = cmd.find("{pbx}"); at != std::string::npos; at = cmd.find("{pbx}"))
-    cmd.replace(at, 5, fmt::format("'{}'", PBXMPM_BINARY));
-  Result r;
-  FILE* p = popen(("( " + cmd + " ) 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
-}
+using pbx::test::Result;
+using pbx::test::shell;
 
 std::string slurp(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -100,22 +83,9 @@ int wait_code(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-class Faults : public ::testing::Test {
+class Faults : public pbx::test::BinaryTest {
  protected:
-  void SetUp() override {
-    dir = fs::temp_directory_path() / ("pbx_test_faults_" + std::to_string(::getpid()) + "_" +
-                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
-  fs::path dir;
+  Faults() : BinaryTest("pbx_test_faults_") {}
 };
 
 }  // namespace

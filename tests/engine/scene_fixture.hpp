@@ -1,5 +1,7 @@
 #pragma once
 // Builds a 2-D scene from deck text for engine tests.
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "io/deck.hpp"
@@ -12,6 +14,14 @@ inline Scene<2> scene_from(const std::string& text) {
   Scene<2> sc = build_scene<2>(deck);
   deck.check_unused();
   return sc;
+}
+
+// A whole file as text ("" when it cannot be read).
+inline std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
 }
 
 inline RunOptions quiet() {

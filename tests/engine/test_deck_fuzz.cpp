@@ -20,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "io/deck.hpp"
+#include "scene_fixture.hpp"
 #include "solver/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -27,12 +28,6 @@ using namespace pbx;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 // Every value node of the table, with the node that holds it (a table or an array) and its key or
 // index: what a mutation may replace or remove.
@@ -90,9 +85,9 @@ TEST(DeckFuzz, MutatedExampleDecksAreBuiltOrRefusedClearly) {
     double weight;
   };
   const std::vector<Source> sources = {
-      {"demo/elastic_block_die.toml", slurp(ex / "demo" / "elastic_block_die.toml"), 0.45},
-      {"contact/two_disks.toml", slurp(ex / "contact" / "two_disks.toml"), 0.45},
-      {"paper/base.toml", slurp(ex / "paper" / "base.toml"), 0.10},
+      {"demo/elastic_block_die.toml", test::slurp(ex / "demo" / "elastic_block_die.toml"), 0.45},
+      {"contact/two_disks.toml", test::slurp(ex / "contact" / "two_disks.toml"), 0.45},
+      {"paper/base.toml", test::slurp(ex / "paper" / "base.toml"), 0.10},
   };
   std::mt19937_64 rng(20261204);
   std::discrete_distribution<int> pick_source({sources[0].weight, sources[1].weight, sources[2].weight});
