@@ -57,8 +57,8 @@ void register_run(CLI::App& app) {
   run->add_option("deck", args->deck, "TOML deck (not needed with --restart)")->check(CLI::ExistingFile);
   run->add_option("--out,-o", args->out, "output directory (history.csv, run.json, snapshots/)");
   run->add_option("--checkpoint-every", args->checkpoint_every,
-                  "write OUT/checkpoint.h5 every N history rows (it is overwritten each time)")
-      ->check(CLI::Range(1, 1000000));
+                  "write OUT/checkpoint.h5 every N history rows (it is overwritten each time; 0: by the minutes only)")
+      ->check(CLI::Range(0, 1000000));
   run->add_option("--checkpoint-minutes", args->checkpoint_minutes,
                   "also write OUT/checkpoint.h5 at the first history row after this many minutes since the last one "
                   "(0: never)")

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   CLI::App app{"pbxmpm " PBXMPM_VERSION " (" PBXMPM_GIT
                "): material point method for the mesoscale mechanics of polymer-bonded explosives"};
   app.require_subcommand(1);
+  app.option_defaults()->always_capture_default();  // --help shows every option's default
   app.set_version_flag("--version", "pbxmpm " PBXMPM_VERSION " (" PBXMPM_GIT ")");
   pbx::app::register_run(app);
   pbx::app::register_material(app);
