@@ -58,6 +58,12 @@ void SnapshotWriter::write(const SnapshotData& s) {
   write_dataset(f, path, "volume", H5T_NATIVE_DOUBLE, s.volume.data(), n, 1, s.dim == 2 ? "m^2 per m of depth" : "m^3");
   write_dataset(f, path, "material", H5T_NATIVE_INT, s.material.data(), n, 1, "index into run.json materials");
   write_dataset(f, path, "field", H5T_NATIVE_INT, s.field.data(), n, 1, "contact field index");
+  if (s.rigid_count > 0) {
+    write_dataset(f, path, "rigid_position", H5T_NATIVE_DOUBLE, s.rigid_position.data(), s.rigid_count, 3, "m");
+    std::string names;
+    for (std::size_t b = 0; b < s.rigid_body_names.size(); ++b) names += fmt::format("{}{}={}", b ? ", " : "", b, s.rigid_body_names[b]);
+    write_dataset(f, path, "rigid_body", H5T_NATIVE_INT, s.rigid_body.data(), s.rigid_count, 1, ("rigid body index: " + names).c_str());
+  }
   hid_t aspace = H5Screate(H5S_SCALAR);
   hid_t attr = aspace < 0 ? -1 : H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
   bool ok = attr >= 0 && H5Awrite(attr, H5T_NATIVE_DOUBLE, &s.time) >= 0;
@@ -65,7 +71,7 @@ void SnapshotWriter::write(const SnapshotData& s) {
   if (aspace >= 0) H5Sclose(aspace);
   if (!ok) throw OutputError(fmt::format("cannot write snapshot '{}': writing attribute 'time_s' failed", path));
   img.save();
-  entries_.push_back({name, s.time, n});
+  entries_.push_back({name, s.time, n, s.rigid_count});
   write_xdmf();
 }
 
@@ -76,24 +82,34 @@ void SnapshotWriter::write_xdmf() const {
        "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& e : entries_) {
     const auto n = e.count;
-    x << fmt::format("<Grid Name=\"t\" GridType=\"Uniform\"><Time Value=\"{:.10g}\"/>\n", e.time);
+    x << fmt::format("<Grid Name=\"t\" GridType=\"Collection\" CollectionType=\"Spatial\"><Time Value=\"{:.10g}\"/>\n", e.time);
+    x << "<Grid Name=\"particles\" GridType=\"Uniform\">\n";
     x << fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
     x << fmt::format("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
                      "Format=\"HDF\">{}:/position</DataItem></Geometry>\n", n, e.file);
-    auto attr = [&](const char* name, const char* type, int cols, const char* num, int prec) {
-      const std::string dims = cols == 1 ? fmt::format("{}", n) : fmt::format("{} {}", n, cols);
+    auto attr = [&](const char* name, const char* type, int cols, const char* num, int prec, std::size_t rows) {
+      const std::string dims = cols == 1 ? fmt::format("{}", rows) : fmt::format("{} {}", rows, cols);
       x << fmt::format("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\"><DataItem Dimensions=\"{}\" "
                        "NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}</DataItem></Attribute>\n",
                        name, type, dims, num, prec, e.file, name);
     };
-    attr("velocity", "Vector", 3, "Float", 8);
-    attr("stress", "Tensor6", 6, "Float", 8);
-    attr("pressure", "Scalar", 1, "Float", 8);
-    attr("von_mises", "Scalar", 1, "Float", 8);
-    attr("plastic_strain", "Scalar", 1, "Float", 8);
-    attr("volume", "Scalar", 1, "Float", 8);
-    attr("material", "Scalar", 1, "Int", 4);
-    attr("field", "Scalar", 1, "Int", 4);
+    attr("velocity", "Vector", 3, "Float", 8, n);
+    attr("stress", "Tensor6", 6, "Float", 8, n);
+    attr("pressure", "Scalar", 1, "Float", 8, n);
+    attr("von_mises", "Scalar", 1, "Float", 8, n);
+    attr("plastic_strain", "Scalar", 1, "Float", 8, n);
+    attr("volume", "Scalar", 1, "Float", 8, n);
+    attr("material", "Scalar", 1, "Int", 4, n);
+    attr("field", "Scalar", 1, "Int", 4, n);
+    x << "</Grid>\n";
+    if (e.rigid_count > 0) {
+      x << "<Grid Name=\"rigid_bodies\" GridType=\"Uniform\">\n";
+      x << fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", e.rigid_count);
+      x << fmt::format("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+                       "Format=\"HDF\">{}:/rigid_position</DataItem></Geometry>\n", e.rigid_count, e.file);
+      attr("rigid_body", "Scalar", 1, "Int", 4, e.rigid_count);
+      x << "</Grid>\n";
+    }
     x << "</Grid>\n";
   }
   x << "</Grid>\n</Domain>\n</Xdmf>\n";

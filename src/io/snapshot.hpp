@@ -1,6 +1,8 @@
 #pragma once
 // Particle snapshots: one HDF5 file per snapshot (snapshots/snap_NNNN.h5) plus an XDMF sidecar
-// (snapshots/snapshots.xmf, a temporal collection) that ParaView opens directly. Rewritten after
+// (snapshots/snapshots.xmf, a temporal collection) that ParaView opens directly. Each time holds
+// two grids: "particles" (the specimen) and "rigid_bodies" (the die walls, punch and [[rigid]]
+// bodies as their particles), so a viewer shows the specimen inside the die. Rewritten after
 // every snapshot so an interrupted run stays readable. Units: SI (m, m/s, Pa, m^2 per m depth).
 #include <string>
 #include <vector>
@@ -19,6 +21,11 @@ struct SnapshotData {
   std::vector<double> plastic_strain;   // equivalent plastic strain, 1
   std::vector<double> volume;           // m^2 (per m of depth) in 2D
   std::vector<int> material, field;
+  // The rigid bodies (die walls, punch, [[rigid]]) as their particles, so a viewer shows the die:
+  std::size_t rigid_count = 0;
+  std::vector<double> rigid_position;   // rigid_count x 3, m
+  std::vector<int> rigid_body;          // index into rigid_body_names
+  std::vector<std::string> rigid_body_names;
 };
 
 class SnapshotWriter {
@@ -33,9 +40,10 @@ class SnapshotWriter {
     for (auto& e : entries_) out.emplace_back(e.time, e.count);
     return out;
   }
-  void restore(const std::vector<std::pair<double, std::size_t>>& w) {
+  // rigid_count: the bodies' particle count, which does not change during a run
+  void restore(const std::vector<std::pair<double, std::size_t>>& w, std::size_t rigid_count) {
     entries_.clear();
-    for (std::size_t i = 0; i < w.size(); ++i) entries_.push_back({snapshot_name(i), w[i].first, w[i].second});
+    for (std::size_t i = 0; i < w.size(); ++i) entries_.push_back({snapshot_name(i), w[i].first, w[i].second, rigid_count});
   }
   static std::string snapshot_name(std::size_t i);
 
@@ -46,6 +54,7 @@ class SnapshotWriter {
     std::string file;
     double time;
     std::size_t count;
+    std::size_t rigid_count = 0;
   };
   std::vector<Entry> entries_;
 };

@@ -290,6 +290,15 @@ void Runner<D>::write_snapshot() {
   s.volume = P.volume;
   s.material.assign(P.material.begin(), P.material.end());
   s.field.assign(P.field.begin(), P.field.end());
+  for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
+    const auto& body = sc_.bodies[b];
+    s.rigid_body_names.push_back(body.name);
+    for (const auto& xr : body.x) {
+      for (int d = 0; d < 3; ++d) s.rigid_position.push_back(d < D ? xr[d] : 0.0);
+      s.rigid_body.push_back(static_cast<int>(b));
+    }
+  }
+  s.rigid_count = s.rigid_body.size();
   for (std::size_t p = 0; p < s.count; ++p) {
     for (int d = 0; d < D; ++d) {
       s.position[3 * p + d] = P.x[p][d];
@@ -565,7 +574,9 @@ void Runner<D>::resume(const CheckpointData& c) {
   const auto& snaps = c.arrays.count("snapshots") ? c.arrays.at("snapshots") : std::vector<double>{};
   std::vector<std::pair<double, std::size_t>> w;
   for (std::size_t i = 0; i + 1 < snaps.size(); i += 2) w.emplace_back(snaps[i], static_cast<std::size_t>(snaps[i + 1]));
-  snapshots_.restore(w);
+  std::size_t rigid = 0;
+  for (const auto& b : sc_.bodies) rigid += b.x.size();
+  snapshots_.restore(w, rigid);
   // keep the header and the rows the checkpoint had written, then append
   if (!opt_.out_dir.empty()) {
     const auto file = (std::filesystem::path(opt_.out_dir) / "history.csv").string();
