@@ -154,10 +154,13 @@ void register_run(CLI::App& app) {
     }
     Deck deck = Deck::from_string("", "");
     Scene<2> scene = load(*check_file, *check_set, deck);
-    std::printf("%s: valid. %zu particles in %zu materials, %d deformable fields, %zu rigid bodies, "
-                "grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n",
-                check_file->c_str(), scene.particles.size(), scene.materials.size(), scene.deformable_fields,
-                scene.bodies.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.h, scene.control.end_time);
+    auto count = [](std::size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); };
+    std::printf("%s: valid. %s in %s, %s, %s, grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n", check_file->c_str(),
+                count(scene.particles.size(), "particle", "particles").c_str(),
+                count(scene.materials.size(), "material", "materials").c_str(),
+                count(static_cast<std::size_t>(scene.deformable_fields), "deformable field", "deformable fields").c_str(),
+                count(scene.bodies.size(), "rigid body", "rigid bodies").c_str(), scene.grid.n[0], scene.grid.n[1],
+                scene.grid.h, scene.control.end_time);
   });
 }
 
