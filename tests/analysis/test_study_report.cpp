@@ -116,6 +116,25 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   EXPECT_EQ(table.find("| no |"), std::string::npos) << table;
   EXPECT_NE(table.find("| -40.08 | -40.77 | yes |"), std::string::npos) << table;  // G: two seeds at 293 K
   EXPECT_TRUE(fs::exists(dir / "runs" / "T333_s1" / "analysis.json"));
+  // every condition in one table whatever the study varies; the synthetic run at 373 K carries the
+  // paper's curve there (E 2.11 GPa as this analysis reads it)
+  std::ifstream cc(dir / "report" / "conditions.csv");
+  std::string line;
+  int conditions = 0;
+  bool e373 = false;
+  auto next = [&] {
+    const bool ok = static_cast<bool>(std::getline(cc, line));
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // Python's csv ends rows with CR LF
+    return ok;
+  };
+  next();
+  EXPECT_EQ(line, "group,value,seeds,T_K,density_g_cm3,K_GPa,G_GPa,E_GPa,nu,yield_MPa,strength_MPa");
+  while (next()) {
+    ++conditions;
+    if (line.rfind("temperature,", 0) == 0 && line.find(",373,") != std::string::npos) e373 = line.find(",2.11 ± 0,") != std::string::npos;
+  }
+  EXPECT_EQ(conditions, 7);  // 4 temperatures + 3 densities
+  EXPECT_TRUE(e373) << "E at 373 K";
   if (!HasFailure()) fs::remove_all(dir);
 }
 
