@@ -110,12 +110,12 @@ class Report:
                 for r in rows:
                     md.append("| " + " | ".join(self.cell(v) for v in r) + " |")
                 md.append("")
-                t = [f"<table><caption>{html.escape(caption)} (<a href='{csvname}'>CSV</a>)</caption><tr>"]
+                t = [f"<div style='overflow-x:auto'><table><caption>{html.escape(caption)} (<a href='{csvname}'>CSV</a>)</caption><tr>"]
                 t += [f"<th>{html.escape(h)}</th>" for h in header]
                 t.append("</tr>")
                 for r in rows:
                     t.append("<tr>" + "".join(f"<td>{html.escape(self.cell(v))}</td>" for v in r) + "</tr>")
-                t.append("</table>")
+                t.append("</table></div>")
                 body.append("".join(t))
             elif kind == "fig":
                 name, caption = x
@@ -359,6 +359,28 @@ def main():
           "intervals (Student t on the linearised covariance). Paper values are from its Tables 2-3 and Eq. 13-22 "
           "(tools/report/paper_values.toml); ratio = ours / paper. Definitions: docs/theory/analysis.md.")
 
+    # ---- a few lines on top: how the runs went, and ours against the paper where comparable ----
+    flagged = [r["id"] for r in runs if get(r["a"], "quasi_static", "flagged", default=False)]
+    overlap = [r["id"] for r in runs if get(r["a"], "interpenetration", "flagged", default=False)]
+    lines = [f"{len(runs)} runs finished; {len(flagged)} flagged as not quasi-static"
+             + (f" ({', '.join(flagged)})" if flagged else "")
+             + f", {len(overlap)} for grains passing into each other (run checks below)."]
+    p2this = {t["T_K"]: t for t in paper.get("table2", []) if t.get("source") == "this"}
+    comp = [(c["temperature_K"], get(c, "stats", "E_Pa", "mean") / 1e9, p2this[c["temperature_K"]]["E_GPa"])
+            for c in tconds if c.get("temperature_K") in p2this and c.get("group") == "temperature"]
+    if comp:
+        lines.append("E against the paper's Table 2 (ours / paper, GPa): " +
+                     ", ".join(f"{T:.0f} K {o:.2f} / {pp:.2f} ({o / pp:.2f}x)" for T, o, pp in comp) + ".")
+        if len(comp) >= 2:
+            ours_drop, paper_drop = comp[-1][1] / comp[0][1] - 1, comp[-1][2] / comp[0][2] - 1
+            lines.append(f"E from {comp[0][0]:.0f} to {comp[-1][0]:.0f} K: ours {100 * ours_drop:+.0f} %, "
+                         f"the paper's {100 * paper_drop:+.0f} %.")
+    else:
+        lines.append("This study has none of the paper's temperature conditions: the per-condition table below is "
+                     "its result; the paper's comparisons follow only where its conditions occur.")
+    rep.h("Summary")
+    rep.p(" ".join(lines))
+
     # ---- every condition, whatever the study varies ----
     rep.h("Results per condition")
     rows = []
@@ -398,9 +420,18 @@ def main():
               "the linear window (where the moduli and the strength are read; docs/theory/analysis.md §5), "
               "share of the compaction taken by grains passing into each other at the end of the linear window and of "
               "the run (empty: run without the measure)")
-    warns = [f"{r['id']}: {w}" for r in runs for w in r["a"].get("warnings", [])]
-    if warns:
-        rep.p("Warnings: " + "; ".join(warns))
+    # one line per distinct warning, with the runs it concerns (the same warning on seven runs was
+    # seven copies in one paragraph)
+    # seven copies in one paragraph): warnings of one kind (the text before its first ':') are one
+    # line, with the first run's text and every run named; each run's own numbers are in run checks
+    grouped = {}
+    for r in runs:
+        for w in r["a"].get("warnings", []):
+            grouped.setdefault(w.split(":")[0], []).append((r["id"], w))
+    for kind, items in grouped.items():
+        ids = [i for i, _ in items]
+        alike = "" if len({w for _, w in items}) == 1 else " (the others alike, with their own numbers: see the run checks)"
+        rep.p(f"Warning, {len(ids)} run{'s' if len(ids) > 1 else ''} ({', '.join(ids)}): {items[0][1]}{alike}")
 
     # ---- Fig. 1b ----
     snap_run = next((r for r in truns if abs(run_T(r) - T0) < 0.5 and last_snapshot(r["dir"])), None) or \
