@@ -49,3 +49,17 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   EXPECT_GT(E["binder_x2"] / E["reference"], 1.2) << "reference " << E["reference"] << " GPa, binder x2 " << E["binder_x2"];
   EXPECT_LT(E["binder_x2"] / E["reference"], 2.0);  // a stiffer binder cannot more than double E
 }
+
+// Every "your own study" example deck is a valid study: each run's deck builds and its specimen
+// packs (a porosity its grain sizes cannot reach, or a mistyped key, fails here, not in a user's hands).
+TEST_F(OwnStudy, ExampleDecksAreValidStudies) {
+  int decks = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(PBXMPM_EXAMPLES_DIR) / "own")) {
+    if (e.path().extension() != ".toml") continue;
+    ++decks;
+    const pbx::test::Result r = pbx::test::pbxmpm("check " + e.path().string());
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("valid study"), std::string::npos) << r.output;
+  }
+  EXPECT_GE(decks, 2);
+}
