@@ -49,6 +49,20 @@ LayerLaw read_layer_law(const DeckTable& t) {
     law.bond_within_thickness = true;
   else
     law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
+  if (t.has("film")) {
+    const std::string film = t.string("film");
+    if (film != "uniform" && film != "integrated") t.fail("film", fmt::format("must be 'uniform' or 'integrated', got '{}'", film));
+    law.integrated = film == "integrated";
+  }
+  if (law.integrated && t.has("bond_gap"))
+    t.fail("bond_gap", "does not apply with film = \"integrated\": its springs act on the band of one cell that the grid lets "
+                       "two bodies share, and its film reaches film_extent x t");
+  if (t.has("film_extent")) {
+    if (!law.integrated) t.fail("film_extent", "applies only with film = \"integrated\"");
+    law.film_extent = t.number("film_extent");
+    if (!(law.film_extent >= 0.0 && law.film_extent <= 100.0))
+      t.fail("film_extent", fmt::format("must lie in [0, 100] (a multiple of the layer thickness), got {}", law.film_extent));
+  }
   if (t.has("shear_cap")) {
     const std::string cap = t.string("shear_cap");
     if (cap != "coulomb" && cap != "none") t.fail("shear_cap", fmt::format("must be 'coulomb' or 'none', got '{}'", cap));
@@ -56,7 +70,7 @@ LayerLaw read_layer_law(const DeckTable& t) {
   }
   const bool direct = t.has("normal_stiffness") || t.has("shear_stiffness");
   if (direct) {
-    for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure"})
+    for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure", "film", "film_extent"})
       if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
     if (law.bond_within_thickness) t.fail("bond_gap", "\"thickness\" needs a layer thickness: give binder and thickness");
     law.time = {0.0};

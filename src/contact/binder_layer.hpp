@@ -32,6 +32,13 @@ struct LayerLaw {
   bool shear_cap = true;     // layer shear traction <= friction x compressive normal traction (Eq. 7)
   double bond_gap = 0;       // grains whose particles come this close (beyond touching) are bonded, m
   bool bond_within_thickness = false;  // bond_gap = "thickness": bonded where the gap is below the pair's t
+  // film = "integrated": each contact (a pair of bodies) gets the stiffness of its whole film,
+  // M_b int dA / (t + g) over the particles of one side whose gap g to the other body is below
+  // film_extent x t (the cores' surfaces diverge away from the contact point, so the film
+  // thickens), spread over the particles within one cell of the other body, whose nodes the grid
+  // lets the two sides share: the spring's total no longer depends on how wide that band is.
+  bool integrated = false;
+  double film_extent = 4.0;
   std::string binder;        // material whose moduli make D_n, D_t ("" when given directly)
   double load_time = 0;      // s: secant over this fixed time; 0 = over the elapsed run time
   // Current values (at_time): multiplied by the node's mean 1/t, the stiffnesses per unit area.
@@ -45,7 +52,8 @@ struct LayerLaw {
 // Reads the law's own keys from a [[contact.pair]] table with law = "binder_layer": friction
 // (required), shear_cap ("coulomb" or "none"), then either normal_stiffness and shear_stiffness
 // (Pa/m), or binder, thickness (a length, or "coats" with coat_scale), load_time ("elapsed" by
-// default) and closure (1); bond_gap (a length, 0 by default, or "thickness"). The binder moduli are filled
+// default) and closure (1); bond_gap (a length, 0 by default, or "thickness"); film ("uniform" or "integrated")
+// and film_extent (4, a multiple of t). The binder moduli are filled
 // in later by layer_moduli (they need the material and the run's temperature and duration).
 LayerLaw read_layer_law(const DeckTable& t);
 

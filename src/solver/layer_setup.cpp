@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numeric>
 
 #include <fmt/format.h>
@@ -104,9 +106,16 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   };
   double max_coat = 0;
   for (double c : sc.grain_coat) max_coat = std::max(max_coat, c);
-  double gap = 0;  // the search reach: the largest bond gap of any law
-  for (const auto& l : cm.layers)
-    gap = std::max(gap, l.bond_within_thickness ? (l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness) : l.bond_gap);
+  // A law's reach beyond touching: its bond gap; with film = "integrated" the band of one cell
+  // whose nodes the two sides share, and the search covers the film out to film_extent x t
+  const auto reach_of = [&](const LayerLaw& l, double t) {
+    return l.integrated ? h : l.bond_within_thickness ? t : l.bond_gap;
+  };
+  const auto search_of = [&](const LayerLaw& l, double t) {
+    return l.integrated ? std::max(reach_of(l, t), l.film_extent * t) : reach_of(l, t);
+  };
+  double gap = 0;  // the search reach: the largest of any law
+  for (const auto& l : cm.layers) gap = std::max(gap, search_of(l, l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness));
   const double touch_r = 1.01 * spacing + gap, bond_r = 2.0 * h;
   const auto layer_pair = [&](int a, int b) {
     return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
@@ -118,19 +127,30 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   std::vector<std::uint8_t> touching(np, 0);
   std::vector<Vec<D>> toward(np, Vec<D>::Zero());
   std::vector<double> inv_t(np, 0.0);
+  // film = "integrated": per particle its nearest particle of another body, the local gap and
+  // thickness there, and whether it faces that body (no particle of its own in front of it)
+  const bool integrated = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.integrated; });
+  if (integrated && sc.grain_index.size() != np)
+    root.table("contact").fail("pair", "film = \"integrated\" needs the bodies of the particles (packed grains or [[geometry]] entries)");
+  std::vector<int> other(np, -1);
+  std::vector<double> local_gap(np, 0.0), local_t(np, 0.0), extent(np, 0.0);
+  std::vector<std::uint8_t> faces(np, 0);
   const long touch_cells = static_cast<long>(std::ceil(touch_r / h)), bond_cells = static_cast<long>(std::ceil(bond_r / h));
 #pragma omp parallel for schedule(static)
   for (std::size_t p = 0; p < np; ++p) {
     Vec<D> sum = Vec<D>::Zero();
     double scale_sum = 0;
     int n = 0;
+    double nearest = std::numeric_limits<double>::infinity();
+    long nearest_q = -1;
     cells.any_near(P.x[p], touch_cells, [&](std::uint32_t q) {
       const Vec<D> d = P.x[q] - P.x[p];
       if (!layer_pair(P.field[p], P.field[q])) return false;
       const LayerLaw& L = pair_law(P.field[p], P.field[q]);
-      const double t = thickness(L, p, q);
-      if (d.norm() > 1.01 * spacing + (L.bond_within_thickness ? t : L.bond_gap)) return false;
-      sum += d / d.norm();
+      const double t = thickness(L, p, q), dist = d.norm();
+      if (L.integrated && dist < nearest && dist <= 1.01 * spacing + search_of(L, t)) nearest = dist, nearest_q = q;
+      if (dist > 1.01 * spacing + reach_of(L, t)) return false;
+      sum += d / dist;
       // 1/t of this contact (the mean over the touching particles is the harmonic mean of t);
       // stiffnesses given per area directly carry 1
       scale_sum += L.binder.empty() ? 1.0 : 1.0 / t;
@@ -140,6 +160,44 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     const double len = sum.norm();
     touching[p] = len > 0.0;
     if (len > 0.0) toward[p] = sum / len, inv_t[p] = scale_sum / n;
+    if (nearest_q >= 0) {
+      const auto q = static_cast<std::size_t>(nearest_q);
+      other[p] = sc.grain_index[q];
+      local_gap[p] = std::max(0.0, nearest - spacing);
+      const LayerLaw& L = pair_law(P.field[p], P.field[q]);
+      local_t[p] = thickness(L, p, q);
+      extent[p] = L.film_extent;
+      const Vec<D> e = (P.x[q] - P.x[p]) / nearest;
+      faces[p] = !cells.any_near(P.x[p], 2, [&](std::uint32_t r) {
+        if (sc.grain_index[r] != sc.grain_index[p] || r == p) return false;
+        const Vec<D> d = P.x[r] - P.x[p];
+        const double along = d.dot(e);  // in front of p, in its column towards the other body
+        return along > 0.5 * spacing && (d - along * e).norm() < 0.71 * spacing;
+      });
+    }
+  }
+  if (integrated) {
+    // per contact (this body, the other): S = sum a/(t + g) over the facing particles within
+    // film_extent x t, W = sum a over those within the shared band; each touching particle then
+    // carries S/W, so that the band's springs add up to the whole film (the particles' surface
+    // patches a = spacing^(D-1) cancel, and with them the staircase of a curved surface)
+    std::map<std::pair<int, int>, std::pair<double, double>> film;
+    for (std::size_t p = 0; p < np; ++p) {
+      if (other[p] < 0 || !faces[p]) continue;
+      auto& [S, W] = film[{sc.grain_index[p], other[p]}];
+      if (local_gap[p] <= extent[p] * local_t[p]) S += 1.0 / (local_t[p] + local_gap[p]);
+      if (local_gap[p] <= h) W += 1.0;
+    }
+    for (std::size_t p = 0; p < np; ++p) {
+      if (!touching[p] || other[p] < 0) continue;
+      // a contact whose band lies beyond film_extent x t has no film: Coulomb there
+      const auto it = film.find({sc.grain_index[p], other[p]});
+      const double S = it != film.end() ? it->second.first : 0.0, W = it != film.end() ? it->second.second : 0.0;
+      if (S > 0.0 && W > 0.0)
+        inv_t[p] = S / W;
+      else
+        touching[p] = 0, inv_t[p] = 0.0;
+    }
   }
   for (std::size_t p = 0; p < np; ++p)
     if (touching[p] && !(std::isfinite(inv_t[p]) && inv_t[p] > 0.0))

@@ -319,6 +319,7 @@ Scene<D> build_scene(const Deck& deck) {
                                                              : fmt::format("{}_{}", sc.material_names[grain_mat], seed.colour));
         sc.particles.add(seed.x, seed.volume, seed.volume * sc.materials[mat]->density(), mat, fld);
         sc.grain_coat.push_back(grain && seed.grain >= 0 ? packing.grains[static_cast<std::size_t>(seed.grain)].coat : 0.0);
+        sc.grain_index.push_back(grain ? seed.grain : -1);
       }
       // The particles hold the packing to within their rasterisation: say when the specimen the
       // run computes misses the packing's porosity by more than the packer's default tolerance
@@ -373,12 +374,16 @@ Scene<D> build_scene(const Deck& deck) {
                fmt::format("the [[geometry]] entries' up to {:.3g} particles (check their sizes and grid.cell_size)", at_most));
   }
   std::vector<long> seeded(gs.size(), 0);
+  int grain_count = 0;  // ids of the [[geometry]] bodies follow the packed grains'
+  for (int gi : sc.grain_index) grain_count = std::max(grain_count, gi + 1);
   if (!gs.empty()) seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
     for (std::size_t k = 0; k < gs.size(); ++k) {
       const Geo& g = gs[k];
       if (!g.shape.contains(x)) continue;
       const std::size_t p = sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
       sc.particles.v[p] = g.velocity;
+      if (sc.grain_index.size() + 1 == sc.particles.size())  // bodies after any packed grains
+        sc.grain_index.push_back(static_cast<int>(grain_count + k));
       ++seeded[k];
       return;
     }
@@ -527,7 +532,8 @@ Scene<D> build_scene(const Deck& deck) {
     }
     sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
     setup_binder_layers(sc, root);
-    std::vector<double>().swap(sc.grain_coat);  // only the layers' setup reads it
+    std::vector<double>().swap(sc.grain_coat);  // only the layers' setup reads these
+    std::vector<int>().swap(sc.grain_index);
   }
 
   // Rigid contact bodies (the die, unilateral [[rigid]]) meet the specimen at grid nodes; only uGIMP passes the die
@@ -585,6 +591,11 @@ void order_by_strip(Scene<D>& sc) {
       std::vector<double> coat(np);
       for (std::size_t k = 0; k < np; ++k) coat[k] = sc.grain_coat[order[k]];
       sc.grain_coat = std::move(coat);
+    }
+    if (!sc.grain_index.empty()) {
+      std::vector<int> grain(np);
+      for (std::size_t k = 0; k < np; ++k) grain[k] = sc.grain_index[order[k]];
+      sc.grain_index = std::move(grain);
     }
   }
   // batches in the new storage order; a particle's history row moves with it (slot = old row)

@@ -72,6 +72,10 @@ struct Scene {
   // Per particle in creation order, packed specimens only: the binder coat of the particle's
   // grain, m (0 for binder particles); read by setup_binder_layers (thickness = "coats"), then freed.
   std::vector<double> grain_coat;
+  // Per particle in creation order: the body it belongs to (a packed grain's index, or for
+  // [[geometry]] entries the packing's grain count plus the entry's index; -1 for binder);
+  // read by setup_binder_layers (film = "integrated": one film per pair of bodies), then freed.
+  std::vector<int> grain_index;
   std::string description;
 };
 
