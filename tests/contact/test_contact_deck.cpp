@@ -132,6 +132,14 @@ TEST(ContactDeck, BadDecksNameTheKey) {
               AllOf(HasSubstr("coat_scale"), HasSubstr("coats")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coats\"\ncoat_scale = 0\n"),
               HasSubstr("coat_scale"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"bonded\"\n"),
+              AllOf(HasSubstr("film"), HasSubstr("'uniform' or 'integrated'")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm_extent = 3\n"),
+              AllOf(HasSubstr("film_extent"), HasSubstr("integrated")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nfilm_extent = -1\n"),
+              HasSubstr("film_extent"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nbond_gap = \"2 um\"\n"),
+              AllOf(HasSubstr("bond_gap"), HasSubstr("integrated")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coat\"\n"), HasSubstr("thickness"));
   // the disks here are [[geometry]], not a packing: no coats to take the thickness from
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coats\"\n"),
