@@ -185,7 +185,9 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     for (std::size_t p = 0; p < np; ++p) {
       if (other[p] < 0 || !faces[p]) continue;
       auto& [S, W] = film[{sc.grain_index[p], other[p]}];
-      if (local_gap[p] <= extent[p] * local_t[p]) S += 1.0 / (local_t[p] + local_gap[p]);
+      // the film reaches film_extent x t, and at least over the band (else the grid would meet
+      // the two bodies there with a rigid Coulomb contact a cell before their surfaces do)
+      if (local_gap[p] <= std::max(extent[p] * local_t[p], h)) S += 1.0 / (local_t[p] + local_gap[p]);
       if (local_gap[p] <= h) W += 1.0;
     }
     for (std::size_t p = 0; p < np; ++p) {
