@@ -492,12 +492,20 @@ def main():
         for r in sorted(truns, key=run_T):
             e, p, v = curve(r)
             line, = ax.plot(100 * e, p / 1e6, label=f"{run_T(r):.0f} K ({r['id']})")
-            ax.plot(100 * e, v / 1e6, "--", color=line.get_color(), lw=0.8)
+            ax.plot(100 * e, v / 1e6, "--", color=line.get_color(), lw=0.8,
+                    label="volume average -σyy" if r is sorted(truns, key=run_T)[0] else None)
+            # the paper's own curve at this temperature: its Eq. 15 (Eq. 13 x Eq. 14, its constants) on
+            # the plateau it was fitted to
+            pf, pn = paper["fits"]["temperature"], paper["fits"]["normalized_curve"]
+            eg = np.linspace(0.5, 100 * max(e[-1], 0.005), 100)
+            ax.plot(eg, eq13(run_T(r), pf["sigma0_MPa"], pf["alpha"], pf["T0_K"]) * eq14(eg, pn["A"], pn["B"], pn["n"]),
+                    ":", color=line.get_color(), lw=1.2, label=f"paper Eq. 15, {run_T(r):.0f} K")
         ax.set_xlabel("strain (%)")
         ax.set_ylabel("stress (MPa)")
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: never over the data
         rep.figure(fig, "fig2_curves_vs_temperature",
-                   "Stress-strain curves vs temperature (cf. Fig. 2): punch stress solid, volume average -σyy dashed")
+                   "Stress-strain curves vs temperature (cf. Fig. 2): punch stress solid, volume average -σyy dashed, "
+                   "the paper's curve (its Eq. 15 with its constants, from 0.5 % strain) dotted")
 
         rows = []
         for c in tconds:
