@@ -48,6 +48,16 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   // measured 2026-12-04: 2.70 and 4.38 GPa at 40 um cells (2.97 and 4.35 at the deck's 20 um)
   EXPECT_GT(E["binder_x2"] / E["reference"], 1.2) << "reference " << E["reference"] << " GPa, binder x2 " << E["binder_x2"];
   EXPECT_LT(E["binder_x2"] / E["reference"], 2.0);  // a stiffer binder cannot more than double E
+  // the ratio table answers the question directly: binder_x2 against the study's first condition,
+  // the same ratio as the two means (one seed: no interval)
+  std::ifstream ratios(dir / "s" / "report" / "ratios_within_groups.csv");
+  ASSERT_TRUE(ratios) << r.output;
+  std::getline(ratios, line);
+  ASSERT_TRUE(std::getline(ratios, line));
+  EXPECT_EQ(line.rfind("binder_x2,", 0), 0u) << line;
+  const std::size_t at = line.find(',', line.find(',', line.find(',') + 1) + 1);  // after group, reference, value
+  EXPECT_NEAR(std::stod(line.substr(at + 1)), E["binder_x2"] / E["reference"], 0.002 * E["binder_x2"] / E["reference"]) << line;
+  EXPECT_NE(line.find("one seed"), std::string::npos) << line;
 }
 
 // Every "your own study" example deck is a valid study: each run's deck builds and its specimen

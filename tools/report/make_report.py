@@ -182,6 +182,48 @@ def stat(cond, key, scale=1.0):
     return (m * scale if m is not None else NAN), (s * scale if s is not None else NAN)
 
 
+
+# two-sided 95 % Student t quantiles by degrees of freedom (beyond 30: the normal's 1.96)
+T95 = {1: 12.706, 2: 4.303, 3: 3.182, 4: 2.776, 5: 2.571, 6: 2.447, 7: 2.365, 8: 2.306, 9: 2.262, 10: 2.228,
+       12: 2.179, 15: 2.131, 20: 2.086, 25: 2.060, 30: 2.042}
+
+
+def t95(df):
+    if df > 30:
+        return 1.96
+    return T95[max(k for k in T95 if k <= df)]  # the next smaller df's quantile: a slightly wider interval
+
+
+def ratio_interval(ref, other):
+    """Ratio of a quantity between two conditions with a 95 % interval. ref, other: {seed: value}.
+    Seeds present in both are paired (the same microstructure at both conditions: the ratio per seed,
+    its mean and t interval); otherwise the ratio of the means with the interval of its logarithm
+    (delta method). Returns (ratio, low, high, how)."""
+    ref = {k: v for k, v in ref.items() if math.isfinite(v) and v != 0}
+    other = {k: v for k, v in other.items() if math.isfinite(v)}
+    common = sorted(set(ref) & set(other))
+    if len(common) >= 2:
+        r = [other[k] / ref[k] for k in common]
+        m = sum(r) / len(r)
+        sd = math.sqrt(sum((x - m) ** 2 for x in r) / (len(r) - 1))
+        half = t95(len(r) - 1) * sd / math.sqrt(len(r))
+        return m, m - half, m + half, f"paired, {len(r)} seeds"
+    if len(ref) >= 2 and len(other) >= 2:
+        def ms(d):
+            v = list(d.values())
+            m = sum(v) / len(v)
+            return m, math.sqrt(sum((x - m) ** 2 for x in v) / (len(v) - 1)), len(v)
+        ma, sa, na = ms(ref)
+        mb, sb, nb = ms(other)
+        r = mb / ma
+        se = math.sqrt((sa / ma) ** 2 / na + (sb / mb) ** 2 / nb)
+        k = t95(min(na, nb) - 1)
+        return r, r * math.exp(-k * se), r * math.exp(k * se), f"unpaired, {na} and {nb} seeds"
+    if ref and other:
+        return (sum(other.values()) / len(other)) / (sum(ref.values()) / len(ref)), NAN, NAN, "one seed: no interval"
+    return NAN, NAN, NAN, "no values"
+
+
 def refit_verdict(nl, ll, pf):
     """Which of the two refits of the paper's Table 3 reproduce its sigma0 and alpha, judged by the
     printed digits (the paper gives 4 significant figures) and by the fits' confidence intervals."""
@@ -397,6 +439,43 @@ def main():
               "K, G, E, Poisson's ratio, yield and compression strength of every condition of the study (mean ± "
               "standard deviation over its seeds; docs/theory/analysis.md), whatever the groups vary: the sections "
               "below compare them with the paper where the study has the paper's conditions")
+
+    # ---- each condition against the first: the ratio a user's question is about, with its interval ----
+    if len(conds) > 1:
+        by_id = {r["id"]: r for r in runs}
+
+        def per_seed(c, *path):
+            return {get(by_id[i]["a"], "study", "seed", default=i): get(by_id[i]["a"], *path)
+                    for i in c.get("runs", []) if i in by_id}
+        # the reference: the first condition of the same group, or for a group of one condition (a
+        # study of groups like "reference" and "binder_x2") the study's first condition
+        first_of, count = {}, {}
+        for c in conds:
+            first_of.setdefault(c.get("group", ""), c)
+            count[c.get("group", "")] = count.get(c.get("group", ""), 0) + 1
+        rows = []
+        quantities = (("E", ("moduli", "E_Pa")), ("G", ("moduli", "G_Pa")), ("K", ("moduli", "K_Pa")),
+                      ("strength", ("strength", "strength_Pa")))
+        for c in conds:
+            ref = first_of[c.get("group", "")] if count[c.get("group", "")] > 1 else conds[0]
+            if c is ref:
+                continue
+            row = [c.get("group", ""), f"{ref.get('group', '')} {str(ref.get('value', '')).strip(chr(39))}".strip(),
+                   str(c.get("value", "")).strip("'")]
+            how = ""
+            for _, path in quantities:
+                r, lo, hi, how = ratio_interval(per_seed(ref, *path), per_seed(c, *path))
+                row.append(f"{fmt(r, 3)} [{fmt(lo, 3)}, {fmt(hi, 3)}]" if math.isfinite(lo) else fmt(r, 3))
+            row.append(how)
+            rows.append(row)
+        if rows:
+            rep.table("ratios_within_groups", ["group", "reference", "value"] + [f"{q}_ratio" for q, _ in quantities] +
+                      ["interval"], rows,
+                  "Each condition against the first of its group (a group of one condition: against the study's first "
+                  "condition): "
+                  "ratio of E, G, K and strength with its 95 % interval [low, high] (docs/theory/analysis.md): seeds run at "
+                  "both conditions are paired (one microstructure, two conditions), otherwise the ratio of the means; an "
+                  "interval that excludes 1 is a change the seeds resolve")
 
     # ---- quality checks ----
     rep.h("Run checks")
