@@ -12,6 +12,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "microstructure/png_image.hpp"
+
 #include "core/error.hpp"
 #include "io/deck.hpp"
 #include "microstructure/colouring.hpp"
@@ -168,6 +170,19 @@ TEST(Packing, SameSeedGivesByteIdenticalFilesAndReadsBack) {
     EXPECT_EQ(q.grains[i].colour, paper_packing().grains[i].colour);
   }
   EXPECT_NEAR(q.stats.porosity, paper_packing().stats.porosity, 1e-12);
+  // The picture: the box at 1200 px on its long side, then a white strip with a 100 um black bar
+  // (1.2 mm box: 1 px = 1 um, so the bar is 100 px long) starting 20 px from the left.
+  const RgbImage img = read_png((dir / "a" / "packing.png").string());
+  const double px = q.box.maxCoeff() / 1200.0;
+  ASSERT_EQ(img.height, std::lround(q.box.y() / px) + 40);
+  const auto rgb = [&](int i, int j) { return &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)]; };
+  const int bar_row = img.height - 20;
+  int black = 0;
+  for (int i = 0; i < img.width; ++i) black += rgb(i, bar_row)[0] == 0 && rgb(i, bar_row)[1] == 0 && rgb(i, bar_row)[2] == 0;
+  EXPECT_EQ(black, std::lround(100e-6 / px));
+  EXPECT_EQ(rgb(19, bar_row)[0], 255);
+  EXPECT_EQ(rgb(20, bar_row)[0], 0);
+  EXPECT_NE(slurp(dir / "a" / "packing.json").find("bar below the box is 100 um long"), std::string::npos);
   // A different seed gives a different packing.
   const Packing other = generate_packing(spec_from(replace(kDeck, "seed = 3", "seed = 4")));
   EXPECT_NE(other.grains[0].centre, paper_packing().grains[0].centre);
