@@ -218,7 +218,7 @@ TEST(BinderLayer, DensestQuickRunStaysQuasiStaticToTheEnd) {
 TEST(BinderLayer, CoatThicknessesComeFromEachContactsGrains) {
   std::string base = slurp(std::filesystem::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml");
   base.replace(base.find("cell_size = \"10 um\""), 19, "cell_size = \"20 um\"");
-  base.replace(base.find("bond_gap = \"thickness\""), 22, "bond_gap = \"2 um\"    ");
+  base.replace(base.find("\nfilm = \"integrated\"") + 1, 19, "bond_gap = \"2 um\"");  // the uniform film: t per contact
   const auto scene_with = [&](const char* scale) {
     std::string d = base;
     d.replace(d.find("coat_scale = 1.64"), 17, std::string("coat_scale = ") + scale);
