@@ -192,7 +192,7 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     }
     for (std::size_t p = 0; p < np; ++p) {
       if (!touching[p] || other[p] < 0) continue;
-      // a contact whose band lies beyond film_extent x t has no film: Coulomb there
+      // a contact with no facing particle in the band carries no film here: Coulomb
       const auto it = film.find({sc.grain_index[p], other[p]});
       const double S = it != film.end() ? it->second.first : 0.0, W = it != film.end() ? it->second.second : 0.0;
       if (S > 0.0 && W > 0.0)
