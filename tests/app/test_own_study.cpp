@@ -57,7 +57,8 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   ASSERT_TRUE(std::getline(ratios, line));
   EXPECT_EQ(line.rfind("binder_x2,", 0), 0u) << line;
   const std::size_t at = line.find(',', line.find(',', line.find(',') + 1) + 1);  // after group, reference, value
-  EXPECT_NEAR(std::stod(line.substr(at + 1)), E["binder_x2"] / E["reference"], 0.002 * E["binder_x2"] / E["reference"]) << line;
+  // both tables print 3 significant digits: the ratio of two rounded moduli agrees to about 1 %
+  EXPECT_NEAR(std::stod(line.substr(at + 1)), E["binder_x2"] / E["reference"], 0.01 * E["binder_x2"] / E["reference"]) << line;
   EXPECT_NE(line.find("one seed"), std::string::npos) << line;
 }
 
