@@ -382,8 +382,7 @@ Scene<D> build_scene(const Deck& deck) {
       if (!g.shape.contains(x)) continue;
       const std::size_t p = sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
       sc.particles.v[p] = g.velocity;
-      if (sc.grain_index.size() + 1 == sc.particles.size())  // bodies after any packed grains
-        sc.grain_index.push_back(static_cast<int>(grain_count + k));
+      sc.grain_index.push_back(static_cast<int>(grain_count + k));  // bodies after any packed grains
       ++seeded[k];
       return;
     }
@@ -587,16 +586,15 @@ void order_by_strip(Scene<D>& sc) {
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
     P.reorder(order);
-    if (!sc.grain_coat.empty()) {
-      std::vector<double> coat(np);
-      for (std::size_t k = 0; k < np; ++k) coat[k] = sc.grain_coat[order[k]];
-      sc.grain_coat = std::move(coat);
-    }
-    if (!sc.grain_index.empty()) {
-      std::vector<int> grain(np);
-      for (std::size_t k = 0; k < np; ++k) grain[k] = sc.grain_index[order[k]];
-      sc.grain_index = std::move(grain);
-    }
+    // the per-particle data the layers' setup reads move with the particles
+    const auto permute = [&](auto& v) {
+      if (v.empty()) return;
+      std::remove_reference_t<decltype(v)> moved(np);
+      for (std::size_t k = 0; k < np; ++k) moved[k] = v[order[k]];
+      v = std::move(moved);
+    };
+    permute(sc.grain_coat);
+    permute(sc.grain_index);
   }
   // batches in the new storage order; a particle's history row moves with it (slot = old row)
   for (std::size_t m = 0; m < sc.material_state.size(); ++m) {
