@@ -110,3 +110,118 @@ TEST(Shape, TwoLaneUgimpStencilEqualsKernel1dBitForBit) {
     }
   }
 }
+
+// The checks above leave one weight and one gradient free per point on a 3-node stencil (three
+// conditions, three nodes: a wrong B-spline or a wrong gradient with the right sums would pass).
+// Here each weight is compared with the kernel's closed form evaluated independently at the node's
+// distance, and each gradient with a central difference of the weights, for all three kernels, at
+// a cell size h = 0.5 (inv_h = 2, so a gradient missing its 1/h fails too).
+namespace {
+// Closed forms of docs/theory/engine.md, from the node's distance xi in cells.
+double hat(double xi) { return std::max(0.0, 1.0 - std::abs(xi)); }
+double bspline2(double xi) {
+  const double r = std::abs(xi);
+  return r <= 0.5 ? 0.75 - r * r : (r <= 1.5 ? 0.5 * (1.5 - r) * (1.5 - r) : 0.0);
+}
+double ugimp(double xi, double a) {
+  const double r = std::abs(xi);
+  if (r < a) return 1.0 - (xi * xi + a * a) / (2 * a);
+  if (r < 1 - a) return 1.0 - r;
+  if (r < 1 + a) return (1 + a - r) * (1 + a - r) / (4 * a);
+  return 0.0;
+}
+
+template <Kernel K>
+double closed_form(double xi, double a) {
+  if constexpr (K == Kernel::linear) return hat(xi);
+  else if constexpr (K == Kernel::ugimp) return ugimp(xi, a);
+  else return bspline2(xi);
+}
+
+// Positions where a kernel's weight has a kink (its gradient jumps): a difference straddling one
+// is skipped. Kinks sit at xi = 0, +-1 (linear), +-a, +-(1 -+ a) (uGIMP) and are absent for the
+// other kernels' gradients (B-spline and uGIMP are C1, but linear is C0 at nodes).
+bool near_kink(double s, double a, double d) {
+  const double u = s - std::floor(s);  // position within the cell
+  for (const double k : {0.0, 1.0, a, 1.0 - a})
+    if (std::abs(u - k) < 2 * d) return true;
+  return false;
+}
+
+template <Kernel K>
+void check_against_closed_form(double a) {
+  const double inv_h = 2.0, d = 1e-6;  // d in cells
+  int checked = 0;
+  for (double s = 3.0; s < 5.0; s += 0.00917) {
+    int base;
+    std::array<double, 3> w, g;
+    kernel_1d<K>(s, a, inv_h, base, w, g);
+    for (int k = 0; k < 3; ++k) {
+      const double xi = s - (base + k);
+      EXPECT_NEAR(w[k], closed_form<K>(xi, a), 1e-14) << "s=" << s << " node " << k;
+      if (near_kink(s, a, d)) continue;
+      // dS/dx = dS/ds * inv_h, with s in cells
+      const double fd = (closed_form<K>(xi + d, a) - closed_form<K>(xi - d, a)) / (2 * d) * inv_h;
+      EXPECT_NEAR(g[k], fd, 1e-7 * inv_h) << "s=" << s << " node " << k;
+      ++checked;
+    }
+    // every node the kernel reaches is in the stencil: the weights cover the whole kernel
+    for (const int outside : {base - 1, base + 3}) EXPECT_EQ(closed_form<K>(s - outside, a), 0.0) << s;
+  }
+  EXPECT_GT(checked, 500);
+}
+}  // namespace
+
+TEST(Shape, LinearWeightsAndGradientsEqualTheClosedForm) { check_against_closed_form<Kernel::linear>(0.25); }
+TEST(Shape, UgimpWeightsAndGradientsEqualTheClosedForm) {
+  for (const double a : {0.25, 0.5, 1.0 / 6.0}) check_against_closed_form<Kernel::ugimp>(a);
+}
+TEST(Shape, Bspline2WeightsAndGradientsEqualTheClosedForm) { check_against_closed_form<Kernel::bspline2>(0.25); }
+
+// The quadratic B-spline's second moment about the particle is 1/4 cell^2 wherever the particle
+// is (a property of the uniform B-spline, independent of the checks above).
+TEST(Shape, Bspline2SecondMomentIsAQuarterCellSquared) {
+  for (double s = 3.0; s < 5.0; s += 0.0137) {
+    int base;
+    std::array<double, 3> w, g;
+    kernel_1d<Kernel::bspline2>(s, 0.25, 1.0, base, w, g);
+    double m2 = 0;
+    for (int k = 0; k < 3; ++k) m2 += w[k] * (base + k - s) * (base + k - s);
+    EXPECT_NEAR(m2, 0.25, 1e-14) << s;
+  }
+}
+
+// The 2-D tensor product: for_each_node's S and gradS against the product of the closed forms and
+// its central difference in x and y, for each kernel (a transposed factor, or a gradient taken
+// from the wrong axis, fails here and nowhere above).
+namespace {
+template <Kernel K>
+void check_tensor_product() {
+  const double h = 0.5, inv_h = 1 / h, a = 0.25, d = 1e-6;
+  const Vec<2> origin(-1.0, 0.5);
+  const std::array<long, 2> stride{1, 100};
+  for (const Vec<2>& x : {Vec<2>(0.3170, 1.8125), Vec<2>(1.0441, 2.3390), Vec<2>(-0.2083, 0.9051)}) {
+    const Stencil<2> st = make_stencil<2, K>(x, origin, inv_h, a);
+    int visited = 0;
+    double sum = 0;
+    for_each_node<2>(st, stride, [&](long node, double S, const Vec<2>& G) {
+      const long i = node % stride[1], j = node / stride[1];
+      const double xi = (x[0] - origin[0]) * inv_h - i, eta = (x[1] - origin[1]) * inv_h - j;
+      const auto w = [&](double u, double v) { return closed_form<K>(u, a) * closed_form<K>(v, a); };
+      EXPECT_NEAR(S, w(xi, eta), 1e-14) << node;
+      EXPECT_NEAR(G[0], (w(xi + d, eta) - w(xi - d, eta)) / (2 * d) * inv_h, 1e-7) << node;
+      EXPECT_NEAR(G[1], (w(xi, eta + d) - w(xi, eta - d)) / (2 * d) * inv_h, 1e-7) << node;
+      ++visited;
+      sum += S;
+    });
+    EXPECT_EQ(visited, 9);
+    EXPECT_NEAR(sum, 1.0, 1e-14);
+  }
+}
+}  // namespace
+
+TEST(Shape, TensorProductWeightsAndGradientsIn2D) {
+  check_tensor_product<Kernel::linear>();
+  check_tensor_product<Kernel::ugimp>();
+  check_tensor_product<Kernel::bspline2>();
+}
