@@ -4,7 +4,8 @@
 //   punch force = bottom and side wall forces + rate of change of the specimen's momentum
 // within 1 % of the punch force (y), and the x forces balance the x momentum change to 1 % of it:
 // contact between fields exchanges momentum only inside the specimen, so the rigid-body reactions
-// are the only external forces. The grain-grain and grain-binder contacts carry load.
+// are the only external forces. The grain-grain and grain-binder contacts carry load, and every
+// face and pair obeys mu = 0.3 (the side walls at the cap).
 #include <cmath>
 #include <string>
 #include <vector>
@@ -90,6 +91,35 @@ TEST(DieTwoGrains, PunchForceEqualsWallForcesPlusMomentumRate) {
     worst_x = std::max(worst_x, std::abs(all_x - dpx) / m.punch_force);
   }
   std::printf("die, two grains + binder: |punch - walls - dp/dt| / punch <= %.2e (y), %.2e (x)\n", worst_y, worst_x);
+
+  // Coulomb mu = 0.3 at every rigid face and between every pair of fields. Each node obeys
+  // |dp_t| <= mu |dp_n| with one sign of dp_n per face, so the summed tangential force of a face is
+  // at most mu times its normal force (round-off: 1e-9), and so is a pair's summed |f_t| against its
+  // summed |f_n|. The side walls see the specimen slide down along them (the column shortens), so
+  // their friction is at the cap over most of the wall: the ratio must come close to mu, which a
+  // friction law that ignored the coefficient (or a frictionless wall) would not give. The pairs
+  // mostly stick here, so for them this is a bound only (checked: a field friction 1.5 mu passes
+  // it); the field law reaching mu when sliding is BilayerShear.CoulombShearNeverExceedsMuTimesNormal.
+  const double mu = 0.3;
+  double side_ratio_max = 0;
+  for (const Measurement& m : rows) {
+    if (m.strain < 2 * die.ramp_strain) continue;
+    const auto& L = m.body_force[static_cast<std::size_t>(die.left)];
+    const auto& R = m.body_force[static_cast<std::size_t>(die.right)];
+    const auto& B = m.body_force[static_cast<std::size_t>(die.bottom)];
+    const auto& P = m.body_force[static_cast<std::size_t>(die.punch)];
+    EXPECT_LE(std::abs(L[1]), mu * L[0] * (1 + 1e-9)) << "left wall, strain " << m.strain;
+    EXPECT_LE(std::abs(R[1]), mu * -R[0] * (1 + 1e-9)) << "right wall, strain " << m.strain;
+    EXPECT_LE(std::abs(B[0]), mu * B[1] * (1 + 1e-9)) << "bottom, strain " << m.strain;
+    EXPECT_LE(std::abs(P[0]), mu * -P[1] * (1 + 1e-9)) << "punch, strain " << m.strain;
+    // the walls hold the specimen up: friction on it points up (+y) on both sides
+    EXPECT_GT(L[1], 0.0) << "strain " << m.strain;
+    EXPECT_GT(R[1], 0.0) << "strain " << m.strain;
+    side_ratio_max = std::max(side_ratio_max, (L[1] + R[1]) / (L[0] - R[0]));
+    for (const auto& pf : m.pair_force) EXPECT_LE(pf[1], mu * pf[0] * (1 + 1e-9)) << "strain " << m.strain;
+  }
+  EXPECT_GT(side_ratio_max, 0.8 * mu);
+  std::printf("side walls: friction / normal force up to %.3f (mu %.1f)\n", side_ratio_max, mu);
   // the grains really are in contact with each other and with the binder at the end
   const Measurement& last = rows.back();
   EXPECT_GT(last.punch_force, 0.0);
