@@ -93,6 +93,41 @@ Json interpenetration_json(const StressStrainCurve& c, double width, double heig
   return j;
 }
 
+// Energy balance: the punch is the only body that does work (the walls are fixed), and friction,
+// nodal contact and PIC damping only take energy away, so kinetic energy plus stress work (which
+// holds the stored energy and the plastic and viscous dissipation) cannot exceed the punch work. A
+// ratio above 1 + energy_gain_limit from the linear window's start is energy the discretisation
+// made (docs/theory/analysis.md). Null without the energy columns (runs of older versions).
+Json energy_balance_json(const StressStrainCurve& c, double from, double window_hi, const AnalysisOptions& opt,
+                         std::vector<std::string>& warnings) {
+  if (c.punch_work.empty() || c.size() == 0) return Json();
+  double worst = -HUGE_VAL, at = std::nan(""), at_window = std::nan(""), at_end = std::nan("");
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (c.strain[i] < from || !(c.punch_work[i] > 0)) continue;
+    const double r = (c.kinetic[i] + c.internal[i]) / c.punch_work[i];
+    if (!std::isfinite(r)) continue;
+    if (r > worst) worst = r, at = c.strain[i];
+    if (c.strain[i] <= window_hi) at_window = r;
+    at_end = r;
+  }
+  if (!std::isfinite(worst)) return Json();
+  Json j = Json::object();
+  j.set("max_ratio", worst);
+  j.set("at_strain", at);
+  j.set("ratio_at_window_end", std::isfinite(at_window) ? Json(at_window) : Json());
+  j.set("ratio_at_end", at_end);
+  j.set("limit", 1.0 + opt.energy_gain_limit);
+  const bool flagged = worst > 1.0 + opt.energy_gain_limit;
+  j.set("flagged", flagged);
+  if (flagged) {
+    warnings.push_back(fmt::format("energy not conserved: kinetic energy plus stress work reach {:.3g} x the punch "
+                                   "work at strain {:.4g} (limit {:.3g}): the discretisation adds energy (a local "
+                                   "instability or a non-conservative contact law)",
+                                   worst, at, 1.0 + opt.energy_gain_limit));
+  }
+  return j;
+}
+
 }  // namespace
 
 AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
@@ -123,6 +158,7 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
   o.strength_max_strain = t.in_range("strength_max_strain", 1e-9, 1.0, o.strength_max_strain);
   o.ke_ie_limit = t.in_range("ke_ie_limit", 0.0, 10.0, o.ke_ie_limit);
   o.overlap_limit = t.in_range("overlap_limit", 0.0, 1.0, o.overlap_limit);
+  o.energy_gain_limit = t.in_range("energy_gain_limit", 0.0, 10.0, o.energy_gain_limit);
   o.validate();  // every check above names its key; this one only repeats them
   return o;
 }
@@ -146,6 +182,7 @@ void AnalysisOptions::validate() const {
   in(window_tolerance, 1e-6, 1.0, "window tolerance (window_tolerance, --window-tolerance)");
   in(ke_ie_limit, 0.0, 10.0, "KE/IE limit (ke_ie_limit, --ke-ie-limit)");
   in(overlap_limit, 0.0, 1.0, "overlap_limit");
+  in(energy_gain_limit, 0.0, 10.0, "energy_gain_limit");
   if (window_min_points < 3) throw InputError(fmt::format("window_min_points = {}: must be >= 3", window_min_points));
   if (window_signal != "volume_average" && window_signal != "punch") {
     throw InputError(fmt::format("window signal '{}': must be 'volume_average' or 'punch'", window_signal));
@@ -163,6 +200,7 @@ Json AnalysisOptions::to_json() const {
   j.set("plateau_window", plateau_lo ? Json::numbers({*plateau_lo, *plateau_hi}) : Json("automatic"));
   j.set("ke_ie_limit", ke_ie_limit);
   j.set("overlap_limit", overlap_limit);
+  j.set("energy_gain_limit", energy_gain_limit);
   return j;
 }
 
@@ -298,6 +336,7 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     warnings.push_back(fmt::format("not quasi-static: KE/IE reaches {:.3g} after the start of the linear window at "
                                    "strain {:.4g} (limit {:.3g})", ke_max, w.lo, opt.ke_ie_limit));
   }
+  j.set("energy_balance", energy_balance_json(c, std::max(w.lo, ramp), w.hi, opt, warnings));
   j.set("interpenetration", interpenetration_json(c, number_or(spec, "width_m", std::nan("")),
                                                   number_or(spec, "height_m", std::nan("")), w.hi, opt, warnings));
   Json warn = Json::array();

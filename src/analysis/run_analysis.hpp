@@ -25,6 +25,9 @@ struct AnalysisOptions {
   // particle domains of different fields before the run is flagged (history column
   // field_overlap_m2_per_m; docs/theory/analysis.md).
   double overlap_limit = 0.25;
+  // Largest accepted (KE + stress work)/punch work - 1 from the linear window's start: a run can
+  // only lose energy (friction, contact, damping), so a gain beyond this is a numerical energy source.
+  double energy_gain_limit = 0.05;
   bool allow_unfinished = false;
   int curve_points = 400;  // the curve stored in analysis.json is thinned to about this many points
 

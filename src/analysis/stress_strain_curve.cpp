@@ -18,7 +18,13 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
   const auto& keie = t.numbers("ke_ie");
   const auto& time = t.numbers("t_s");
   const std::vector<double>* overlap = t.has("field_overlap_m2_per_m") ? &t.numbers("field_overlap_m2_per_m") : nullptr;
+  const bool energy = t.has("kinetic_J_per_m") && t.has("internal_J_per_m") && t.has("punch_work_J_per_m");
   StressStrainCurve c;
+  if (energy) {
+    c.kinetic = t.numbers("kinetic_J_per_m");
+    c.internal = t.numbers("internal_J_per_m");
+    c.punch_work = t.numbers("punch_work_J_per_m");
+  }
   for (std::size_t i = 0; i < t.rows(); ++i) {
     c.strain.push_back(eps[i]);
     c.punch_stress.push_back(punch[i]);

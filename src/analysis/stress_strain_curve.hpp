@@ -17,6 +17,8 @@ struct StressStrainCurve {
   std::vector<double> ke_ie;           // kinetic / internal energy of the specimen
   std::vector<double> time;            // s
   std::vector<double> field_overlap;   // m^2 per m, overlapping domains of different fields (empty: not in the file)
+  // J per m: kinetic energy, stress work, punch work (empty when the file has no energy columns)
+  std::vector<double> kinetic, internal, punch_work;
   std::size_t size() const { return strain.size(); }
 
   // Reads the columns above from a history.csv; other columns are ignored. Rows with a

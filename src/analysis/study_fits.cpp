@@ -82,6 +82,7 @@ const Quantity kQuantities[] = {
     {"punch_vs_volume_rms_relative", {"agreement", "punch_vs_minus_syy", "rms_relative"}},
     {"interpenetration_share", {"interpenetration", "share_of_compaction"}},
     {"interpenetration_share_at_window_end", {"interpenetration", "share_of_compaction_at_window_end"}},
+    {"energy_ratio_max", {"energy_balance", "max_ratio"}},
 };
 
 Json hs_json(const HashinShtrikmanBounds& b) {

@@ -277,3 +277,49 @@ TEST(LinearWindow, NeverBelowTheMinimumWindow) {
   EXPECT_EQ(w.points, 8);
   EXPECT_NE(w.note.find("minimum size"), std::string::npos) << w.note;
 }
+
+// Energy balance: stress work + kinetic energy above the punch work (by more than 5 %) from the
+// linear window's start is flagged with a warning naming the ratio and the strain; the synthetic
+// run's own balance (0.9 W stress work, 1 % kinetic) is not; a history without the energy columns
+// gives null. The ratio is computed here from the written columns.
+TEST(RunAnalysis, EnergyGainIsFlagged) {
+  for (const double gain : {0.0, 0.04, 0.30}) {
+    test::SyntheticRun s;
+    s.energy_gain = gain;
+    const auto dir = scratch("energy" + std::to_string(gain));
+    test::write_synthetic_run(dir, s);
+    const Json a = analyze_run(dir.string(), AnalysisOptions{});
+    const Json& e = *a.find("energy_balance");
+    ASSERT_FALSE(e.is_null());
+    const double expect = (0.9 + gain) * 1.01;  // (1 + KE/IE) x stress work / punch work
+    EXPECT_NEAR(e.find("max_ratio")->as_number(), gain > 0 ? expect : 0.9 * 1.01, 1e-6) << gain;
+    EXPECT_NEAR(e.find("ratio_at_end")->as_number(), expect, 1e-6) << gain;
+    const bool flag = expect > 1.05;
+    EXPECT_EQ(e.find("flagged")->as_bool(), flag) << gain;
+    if (flag) {
+      EXPECT_GE(e.find("at_strain")->as_number(), s.energy_gain_from);  // the ratio is flat from there on
+    }
+    bool warned = false;
+    for (const auto& w : a.find("warnings")->as_array()) warned |= w.as_string().find("energy not conserved") != std::string::npos;
+    EXPECT_EQ(warned, flag) << gain;
+    fs::remove_all(dir);
+  }
+  // a history without the energy columns (an older version's run): null, no warning
+  const auto dir = scratch("energy_none");
+  test::write_synthetic_run(dir, test::SyntheticRun{});
+  {
+    const CsvTable h = CsvTable::read((dir / "history.csv").string());
+    std::ofstream out(dir / "history.csv");
+    std::vector<std::string> keep;
+    for (const auto& n : h.names())
+      if (n != "kinetic_J_per_m" && n != "internal_J_per_m" && n != "punch_work_J_per_m") keep.push_back(n);
+    for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << keep[k];
+    out << "\n";
+    for (std::size_t i = 0; i < h.rows(); ++i) {
+      for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << fmt::format("{:.12g}", h.column(keep[k])[i]);
+      out << "\n";
+    }
+  }
+  EXPECT_TRUE(analyze_run(dir.string(), AnalysisOptions{}).find("energy_balance")->is_null());
+  fs::remove_all(dir);
+}

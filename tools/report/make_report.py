@@ -405,9 +405,11 @@ def main():
     # ---- a few lines on top: how the runs went, and ours against the paper where comparable ----
     flagged = [r["id"] for r in runs if get(r["a"], "quasi_static", "flagged", default=False)]
     overlap = [r["id"] for r in runs if get(r["a"], "interpenetration", "flagged", default=False)]
+    energy = [r["id"] for r in runs if get(r["a"], "energy_balance", "flagged", default=False)]
     lines = [f"{len(runs)} runs finished; {len(flagged)} flagged as not quasi-static"
              + (f" ({', '.join(flagged)})" if flagged else "")
-             + f", {len(overlap)} for grains passing into each other (run checks below)."]
+             + f", {len(overlap)} for grains passing into each other, {len(energy)} for energy not conserved "
+             "(run checks below)."]
     p2this = {t["T_K"]: t for t in paper.get("table2", []) if t.get("source") == "this"}
     comp = [(c["temperature_K"], get(c, "stats", "E_Pa", "mean") / 1e9, p2this[c["temperature_K"]]["E_GPa"])
             for c in tconds if c.get("temperature_K") in p2this and c.get("group") == "temperature"]
@@ -491,15 +493,21 @@ def main():
                      "YES" if get(a, "quasi_static", "flagged", default=False) else "no",
                      100 * get(a, "interpenetration", "share_of_compaction_at_window_end"),
                      100 * get(a, "interpenetration", "share_of_compaction"),
-                     "YES" if get(a, "interpenetration", "flagged", default=False) else "no"])
+                     "YES" if get(a, "interpenetration", "flagged", default=False) else "no",
+                     get(a, "energy_balance", "ratio_at_window_end"),
+                     get(a, "energy_balance", "max_ratio"),
+                     "YES" if get(a, "energy_balance", "flagged", default=False) else "no"])
     rep.table("run_checks", ["run", "T_K", "density_kg_m3", "linear_window_strain", "punch_vs_volume_rms_percent",
                              "M_volume_vs_punch_percent", "ke_ie_max_from_window_start", "ke_ie_flagged",
                              "interpenetration_window_end_percent", "interpenetration_end_percent",
-                             "interpenetration_flagged"], rows,
+                             "interpenetration_flagged", "energy_ratio_window_end", "energy_ratio_max",
+                             "energy_flagged"], rows,
               "Per-run checks: linear window, agreement of the punch and volume-averaged stress, KE/IE from the start of "
               "the linear window (where the moduli and the strength are read; docs/theory/analysis.md §5), "
               "share of the compaction taken by grains passing into each other at the end of the linear window and of "
-              "the run (empty: run without the measure)")
+              "the run (empty: run without the measure), and kinetic energy plus stress work over the punch work "
+              "at the end of the linear window and at most from its start (above 1.05: energy made by the "
+              "discretisation, docs/theory/analysis.md §5)")
     # one line per distinct warning, with the runs it concerns (the same warning on seven runs was
     # seven copies in one paragraph)
     # seven copies in one paragraph): warnings of one kind (the text before its first ':') are one
