@@ -359,26 +359,29 @@ void Solver<D>::rigid_p2g() {
 
 template <int D>
 void Solver<D>::contact(bool record, bool after_update) {
-  // With binder_layer springs the rigid bodies act last after the grid update: a spring's
-  // impulse moves a grain field by up to its whole jump in one step and, at a node of the die's
-  // support, could push it into the wall, which the rigid stage then met only at the next step;
-  // near a wall where three grain fields meet this fight grew (KE/IE 0.001 -> 0.07 over 80 steps,
-  // a TATB particle crushed past its EOS: the layered quick study's 0.053 run). Last, the wall's constraint
-  // holds at the end of every step; the layered column (tests/contact) is unchanged to all digits.
-  // Without springs the order stays rigid -> fields (the runs before 2026-12-02, bit for bit).
-  const bool springs = after_update && sc_.contact.has_layers();
-  if (!springs) rigid_stage(record);
+  // After the grid update the rigid bodies act last, so that the walls' constraint holds at the
+  // end of the step. The other order (walls, then the fields' exchange) let a field at a wall node
+  // leave the exchange moving into the wall, which the wall met only at the next step: where two
+  // grain fields meet a wall at 20 um cells the particles there were squeezed a little more every
+  // step, an instability that grew at the decks' cfl = 0.4 (von Mises doubling every 0.03 % of
+  // strain to GPa, kinetic energy plus stress work 2-6x the punch work by 0.3 % strain, seeds 1
+  // and 2; cfl 0.2 hid it; 2026-12-05, docs/theory/paper_study.md "Energy"), and a binder_layer
+  // spring could push a grain into the wall the same way (KE/IE 0.001 -> 0.07 over 80 steps). The
+  // pass before the update keeps the order walls -> fields (the walls last there changed nothing
+  // measurable).
+  const bool walls_last = after_update;
+  if (!walls_last) rigid_stage(record);
   if (sc_.contact.fields < 2 || sc_.contact.all_weld()) {
     weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
   } else {
-    if (springs) sc_.contact.layers_at(t_ + dt_);
+    if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
     double energy = 0;
     const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
                                              record ? &contact_tally_ : nullptr, after_update, &energy);
     if (record) dissipated_ += friction;
     if (after_update) layer_energy_ = energy;
   }
-  if (springs) rigid_stage(record);  // the walls last
+  if (walls_last) rigid_stage(record);
 }
 
 template <int D>
