@@ -237,7 +237,12 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
         if (scale < 1.0 && cap > 0.0) {
           // Friction impulse times the mean of the tangential slip speeds before and after it
           // (exactly the kinetic energy the tangential exchange removes); half per field,
-          // because both sides of a pair evaluate the same exchange.
+          // because both sides of a pair evaluate the same exchange. Within 0.1-5 % of mu N d on
+          // the sliding block (test_inclined_plane.cpp); in quasi-static contact the slip before
+          // the exchange holds this step's internal-force increment, which the stress work never
+          // sees, and the measure over-books: 1.7x the energy friction removed in the two-grain
+          // die test (the impulse times the slip after the exchange closes that balance to 1 %
+          // but is 7 % under mu N d on the block; 2026-12-05). The column is an upper bound there.
           const Vec<D> v0 = pa / ma - pr / mr, v1 = (pa + d) / ma - (pr - d) / mr;
           const double s0 = (v0 - v0.dot(n) * n).norm(), s1 = (v1 - v1.dot(n) * n).norm();
           work += 0.25 * cap * (s0 + s1);
