@@ -1,8 +1,10 @@
-// Every study deck shipped in examples/paper reads, and every run it defines is a valid deck: a
+// Every study deck shipped in examples/paper reads, and every run it defines is a valid deck whose
+// varied value reaches the built scene (checked per key, an ignored override fails): a
 // mistyped override must fail here, not an hour into a study. Runs at the quick resolution are
 // built in full (packing included); the fine and full decks differ from quick only in the cell
 // size, so for them the run decks are parsed and their overrides checked against the base deck.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -13,7 +15,9 @@
 
 #include "../analysis/synthetic_run.hpp"
 #include "analysis/run_analysis.hpp"
+#include "contact/contact_matrix.hpp"
 #include "io/deck.hpp"
+#include "materials/point_driver.hpp"
 #include "solver/scene.hpp"
 #include "study/study.hpp"
 
@@ -21,6 +25,63 @@ using namespace pbx;
 
 namespace {
 const std::string kPaper = std::string(PBXMPM_EXAMPLES_DIR) + "/paper/";
+
+// Von Mises stress at which a material point of the scene's material `name` flows in simple shear
+// (to a shear strain of 0.2 at 250 /s): the yield stress the scene's law actually uses.
+double flow_stress(const Scene<2>& sc, const std::string& name) {
+  const auto it = std::find(sc.material_names.begin(), sc.material_names.end(), name);
+  if (it == sc.material_names.end()) return std::nan("");
+  MaterialPoint<2> mp(*sc.materials[static_cast<std::size_t>(it - sc.material_names.begin())]);
+  Mat<2> L = Mat<2>::Zero();
+  L(0, 1) = 250.0;
+  for (int k = 0; k < 4000; ++k) mp.step(L, 0.2 / 250.0 / 4000);
+  const Sym3& t = mp.stress();
+  const Sym3 d = t.dev();
+  return std::sqrt(1.5 * (d.xx * d.xx + d.yy * d.yy + d.zz * d.zz + 2 * (d.xy * d.xy + d.yz * d.yz + d.zx * d.zx)));
+}
+
+// The value a run sets for each key a study of examples/paper varies reaches the built scene (an
+// override that the builder ignored would leave the base deck's value): temperature, porosity of
+// the packed specimen (within the packer's tolerance), TATB yield stress (by driving a material
+// point of the scene's own law into flow), contact friction of every Coulomb pair, position check.
+// Returns how many keys were checked.
+int check_run_values(const Scene<2>& sc, const Deck& d, const StudyRunSpec& r, const std::string& at) {
+  int checked = 0;
+  const DeckTable root = d.root();
+  for (const auto& kv : r.set) {
+    const std::string& key = kv.first;
+    if (key == "run.temperature") {
+      EXPECT_NEAR(sc.control.temperature, root.table("run").positive("temperature", dim::temperature), 1e-9) << at;
+    } else if (key == "packing.porosity") {
+      EXPECT_TRUE(sc.packing_stats.has_value()) << at;
+      if (sc.packing_stats) {
+        EXPECT_NEAR(sc.packing_stats->porosity, root.table("packing").number("porosity"), 0.002) << at;
+      }
+    } else if (key == "materials.tatb.yield_stress") {
+      const double y = root.table("materials").table("tatb").positive("yield_stress", dim::pressure);
+      EXPECT_NEAR(flow_stress(sc, "tatb"), y, 0.01 * y) << at;
+    } else if (key == "contact.friction") {
+      const double mu = root.table("contact").number("friction");
+      int pairs = 0;
+      for (int a = 0; a < sc.deformable_fields; ++a)
+        for (int b = a + 1; b < sc.deformable_fields; ++b)
+          if (sc.contact(a, b).law == ContactLaw::coulomb) {
+            EXPECT_EQ(sc.contact(a, b).friction, mu) << at << " fields " << a << ", " << b;
+            ++pairs;
+          }
+      EXPECT_GT(pairs, 0) << at;
+    } else if (key == "contact.position_check") {
+      EXPECT_EQ(sc.contact.position_cutoff, root.table("contact").number("position_check")) << at;
+    } else if (key == "grid.cell_size") {
+      EXPECT_NEAR(sc.grid.h, root.table("grid").positive("cell_size", dim::length), 1e-15) << at;
+    } else {
+      continue;
+    }
+    ++checked;
+  }
+  EXPECT_GT(sc.particles.size(), 0u) << at;
+  return checked;
+}
 
 void build_every_run(const std::string& deck) {
   const StudySpec s = read_study(kPaper + deck);
@@ -30,6 +91,8 @@ void build_every_run(const std::string& deck) {
     EXPECT_NO_THROW({
       Scene<2> scene = build_scene<2>(d);
       d.check_unused();
+      // every run carries a value of its group's key (the key the study varies), and it is checked
+      EXPECT_GE(check_run_values(scene, d, r, deck + " run " + r.id), 1) << deck << " run " << r.id;
     }) << deck << " run " << r.id;
   }
 }
