@@ -364,7 +364,10 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
       rho.push_back(d);
       Gs.push_back(G);
       Ks.push_back(K);
-      conditions.insert(str(r.entry, "value"));
+      // study.json of pbxmpm study names each run's value; a hand-written one (temperature_K,
+      // density_g_cm3 only) is grouped by its density to 0.1 kg/m^3 instead of read as one condition
+      const std::string value = str(r.entry, "value");
+      conditions.insert(value.empty() ? fmt::format("rho {:.1f}", d) : value);
     }
   }
   const double rho0 = opt.rho0.value_or(std::isfinite(tmd) ? tmd : 1942.0);
