@@ -36,6 +36,7 @@ class Solver {
   // integrated stress work, plus the energy held by binder-layer springs (field contact)
   double internal_energy() const { return internal_ + layer_energy_; }
   double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
+  long stray_count() const { return static_cast<long>(bins_.strays.size()); }  // particles outside their home strip
   double max_wave_speed() const { return cmax_; }            // unscaled, m/s
   // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
   ContactTally<D>& contact_tally() { return contact_tally_; }
