@@ -68,11 +68,21 @@ LayerLaw read_layer_law(const DeckTable& t) {
     if (cap != "coulomb" && cap != "none") t.fail("shear_cap", fmt::format("must be 'coulomb' or 'none', got '{}'", cap));
     law.shear_cap = cap == "coulomb";
   }
+  if (t.has("flow_stress") && t.has("flow_factor"))
+    t.fail("flow_factor", "give either flow_stress or flow_factor, not both");
+  if (t.has("flow_stress")) law.flow_stress = t.positive("flow_stress", dim::pressure);
+  if (t.has("flow_factor")) {
+    law.flow_factor = t.number("flow_factor");
+    if (!(law.flow_factor > 0.0 && std::isfinite(law.flow_factor)))
+      t.fail("flow_factor", fmt::format("must be > 0 (the film's flow pressure over the binder's secant shear modulus), got {}",
+                                        law.flow_factor));
+  }
   const bool direct = t.has("normal_stiffness") || t.has("shear_stiffness");
   if (direct) {
     for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure", "film", "film_extent"})
       if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
     if (law.bond_within_thickness) t.fail("bond_gap", "\"thickness\" needs a layer thickness: give binder and thickness");
+    if (law.flow_factor > 0.0) t.fail("flow_factor", "needs the binder's shear modulus: give binder and thickness (or flow_stress)");
     law.time = {0.0};
     law.normal = {t.positive("normal_stiffness", kStiffnessPerArea)};
     law.shear = {t.non_negative("shear_stiffness", kStiffnessPerArea)};

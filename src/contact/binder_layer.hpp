@@ -30,6 +30,19 @@ struct LayerLaw {
   double coat_scale = 1.0;   // t = coat_scale (coat_i + coat_j) with from_coats
   double closure = 1.0;      // the layer is squeezed out when the normal closure exceeds closure * t
   bool shear_cap = true;     // layer shear traction <= friction x compressive normal traction (Eq. 7)
+  // Film flow (issue 23; a calibration, not the paper's law): the layer's compressive normal
+  // traction is capped at flow_stress (Pa), or at flow_factor x the binder's current secant shear
+  // modulus G_b (the one the shear spring uses), so the cap follows the binder's temperature and
+  // rate: a film extruded between two grains flows at a pressure set by the binder's shear
+  // resistance (Prandtl's squeeze of a plastic layer, p ~ tau (a / h)). A flowing layer is never
+  // squeezed out to Coulomb contact: past the cap the grains pass into each other at that
+  // traction, standing for binder extruded into the pores and the contact zone crushing.
+  // 0 = no flow (the default: the paper's model).
+  double flow_stress = 0;
+  double flow_factor = 0;
+  bool flows() const { return flow_stress > 0.0 || flow_factor > 0.0; }
+  // the cap on the compressive normal traction now, Pa (after at_time)
+  double flow_cap() const { return flow_stress > 0.0 ? flow_stress : flow_factor * kt; }
   double bond_gap = 0;       // grains whose particles come this close (beyond touching) are bonded, m
   bool bond_within_thickness = false;  // bond_gap = "thickness": bonded where the gap is below the pair's t
   // film = "integrated": each contact (a pair of bodies) gets the stiffness of its whole film,

@@ -192,7 +192,9 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
           // the edge of a grain's support was thrown: TATB particles inverted at 2.6-3.3 % strain
           // at 353-373 K on the paper specimen.
           const double jn = jump.dot(nu) * inv_t;
-          const bool out_of_range = !L.binder.empty() && (-jn > L.closure || jn > 1.0);
+          // A flowing layer (flow_stress/flow_factor) is never squeezed out: it keeps its capped
+          // traction however far the grains pass into each other.
+          const bool out_of_range = !L.binder.empty() && ((!L.flows() && -jn > L.closure) || jn > 1.0);
           if (gln > 0.0 && !out_of_range) {
             if (!after_update) continue;  // the fields move on their own until the spring acts
             // Backward Euler in the jump: the impulse J that the spring exerts over the step with
@@ -206,8 +208,18 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             const Vec<D> st = sv - sn * n;
             const double kn = area * L.kn * inv_t, kt = area * L.kt * inv_t;
             const double cn = 1.0 / (1.0 + kn * dt * dt / mred), ct = 1.0 / (1.0 + kt * dt * dt / mred);
-            const double Jn = dt * kn * cn * sn;
+            double Jn = dt * kn * cn * sn;
             Vec<D> Jt = (dt * kt * ct) * st;
+            if (L.flows() && sn < 0.0) {
+              // The film flows at the cap: the traction stays there and the closure beyond the
+              // cap's elastic part is plastic (booked as dissipated work; half per side).
+              const double lim = dt * area * L.flow_cap();
+              if (-Jn > lim) {
+                Jn = -lim;
+                const double closing = jump.dot(n) - (sn - dt * Jn / mred);
+                work += 0.5 * (lim / dt) * std::max(0.0, closing);
+              }
+            }
             // Eq. 7 with S_a = 0 on the layer: its shear traction is at most friction x its
             // compressive normal traction (sn < 0: r closes on a), none in tension. The cap acts on
             // the spring's total tangential jump (a node keeps no slip history), so the capped

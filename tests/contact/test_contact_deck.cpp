@@ -134,6 +134,14 @@ TEST(ContactDeck, BadDecksNameTheKey) {
               HasSubstr("coat_scale"));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"bonded\"\n"),
               AllOf(HasSubstr("film"), HasSubstr("'uniform' or 'integrated'")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_stress = \"10 MPa\"\nflow_factor = 0.5\n"),
+              AllOf(HasSubstr("flow_factor"), HasSubstr("not both")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_factor = -0.5\n"),
+              AllOf(HasSubstr("flow_factor"), HasSubstr("> 0")));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_stress = \"-1 MPa\"\n"),
+              HasSubstr("flow_stress"));
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nnormal_stiffness = 1e15\nshear_stiffness = 1e14\nflow_factor = 0.5\n"),
+              AllOf(HasSubstr("flow_factor"), HasSubstr("shear modulus")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm_extent = 3\n"),
               AllOf(HasSubstr("film_extent"), HasSubstr("integrated")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nfilm_extent = -1\n"),

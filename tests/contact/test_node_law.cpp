@@ -244,3 +244,51 @@ TEST(NodeLaw, BinderLayerTornOpenPastItsThickness) {
   field_contact<2>(m.g, m.cm, 2, 1e-9, 0.0, nullptr, true);
   EXPECT_GT(m.g.mom[0].x(), 0.0);
 }
+
+// Film flow (flow_stress / flow_factor, issue 23's calibration): the compressive normal impulse is
+// capped at dt x area x the flow pressure, the shear cap follows the capped normal (mu x it), the
+// closure beyond the cap is booked as dissipated work (cap force x closing, half per side, both
+// sides here: the whole), and a flowing layer is not squeezed out past its thickness. The cap of
+// flow_factor is that factor times the binder's current secant G_b (7e7 Pa here).
+TEST(NodeLaw, FlowingBinderLayerCapsItsNormalTraction) {
+  const double dt = 1e-9, closing = 0.2e-6, sliding = 1.0e-6, mu = 0.3, area = 0.75;
+  const double inv_t = 1.0 / 4e-6;
+  const double kn = area * 3.6e8 * inv_t;
+  const double Jspring = dt * kn / (1.0 + kn * dt * dt / kMuRed) * closing;
+  for (const int how : {0, 1}) {
+    LayerNode n(4e-6, 4e-6, closing, sliding, mu, true);
+    const double p = 0.25 * Jspring / (dt * area);  // a quarter of the spring's traction: the cap binds
+    if (how == 0)
+      n.cm.layers[0].flow_stress = p;
+    else
+      n.cm.layers[0].flow_factor = p / 7.0e7;
+    const double w = field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+    const double J = dt * area * p;
+    EXPECT_NEAR(n.g.mom[0].x(), -J, 1e-9 * J) << how;
+    EXPECT_NEAR(n.g.mom[0].y(), mu * J, 1e-9 * J) << how;  // Eq. 7 on the capped traction
+    EXPECT_NEAR((n.g.mom[0] + n.g.mom[1]).norm(), 0.0, 1e-15 * J);
+    // from rest the step adds no closure (the cap's impulse only slows the fields apart): no flow work
+    EXPECT_EQ(w, 0.0);
+  }
+  // Past its thickness a flowing layer still pushes at its cap (the plain layer hands over to Coulomb).
+  LayerNode deep(4e-6, 4e-6, 6e-6, 0.0, mu, true);
+  deep.cm.layers[0].flow_stress = 1e6;
+  field_contact<2>(deep.g, deep.cm, 2, dt, 0.0, nullptr, true);
+  EXPECT_NEAR(deep.g.mom[0].x(), -dt * area * 1e6, 1e-9 * dt * area * 1e6);
+}
+
+// The flow work: fields closing at a speed v for one step against a capped layer dissipate the cap
+// force times the closure the step adds (the spring's elastic part does not change at the cap).
+TEST(NodeLaw, FlowingBinderLayerBooksItsPlasticWork) {
+  const double dt = 1e-9, closing = 0.2e-6, p = 1e6, area = 0.75;
+  LayerNode n(4e-6, 4e-6, closing, 0.0, 0.3, true);
+  n.cm.layers[0].flow_stress = p;
+  const Vec<2> va(5.0, 0.0), vb(-5.0, 0.0);  // closing at 10 m/s
+  n.g.mom[0] = 2.0 * va;
+  n.g.mom[1] = 3.0 * vb;
+  const double w = field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+  const double J = dt * area * p;
+  // end-of-step closure added: dt x (relative speed after the cap's impulse)
+  const double vrel_after = 10.0 - J / kMuRed;
+  EXPECT_NEAR(w, (J / dt) * dt * vrel_after, 1e-9 * w);
+}
