@@ -19,6 +19,7 @@ struct AnalysisOptions {
   int window_min_points = 8;
   double window_max_strain = 0.02;
   double strength_max_strain = 0.03;
+  double strength_plateau_from = 0.005;  // the strength is the mean stress from here to strength_max_strain
   std::optional<double> plateau_lo, plateau_hi;
   double ke_ie_limit = 0.05;
   // Largest share of the punch's compaction (box area lost) that may be taken up by overlapping

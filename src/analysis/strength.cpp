@@ -21,12 +21,30 @@ Strength strength_and_yield(const std::vector<double>& strain, const std::vector
   }
   if (imax == strain.size()) throw InputError("strength: no points at or below the strength window's end strain");
   s.window_end = last;
-  s.strength = stress[imax];
-  s.strain_at_strength = strain[imax];
+  s.peak = stress[imax];
+  s.strain_at_peak = strain[imax];
   // "Still rising": the maximum sits in the last 2 % of the window, i.e. no peak or plateau was seen.
   s.still_rising = strain[imax] >= last - 0.02 * (last - strain.front()) && last > linear_hi;
   if (last < opt.max_strain * 0.999) {
     s.note = fmt::format("the run ends at strain {:.4g} before the strength window end {:.4g}", last, opt.max_strain);
+  }
+  // The plateau mean: trapezoidal integral of the stress over [plateau_from, last] divided by its
+  // length (the history is written at equal strain steps, but the mean must not depend on that).
+  s.plateau_from = opt.plateau_from;
+  double area = 0, first = NAN, prev_e = NAN, prev_s = NAN;
+  for (std::size_t i = 0; i < strain.size(); ++i) {
+    if (strain[i] < opt.plateau_from || strain[i] > last || !std::isfinite(stress[i])) continue;
+    if (std::isnan(first)) first = strain[i];
+    if (!std::isnan(prev_e)) area += 0.5 * (stress[i] + prev_s) * (strain[i] - prev_e);
+    prev_e = strain[i], prev_s = stress[i];
+  }
+  s.end_stress = std::isnan(prev_e) ? stress[imax] : prev_s;
+  if (!(prev_e > first)) {
+    s.strength = s.peak;
+    s.note += (s.note.empty() ? "" : "; ") +
+              fmt::format("the curve ends before the plateau window starts at strain {:.4g}: strength is the peak", opt.plateau_from);
+  } else {
+    s.strength = area / (prev_e - first);
   }
 
   s.plateau_hi = opt.plateau_hi.value_or(last);
@@ -65,7 +83,10 @@ Strength strength_and_yield(const std::vector<double>& strain, const std::vector
 Json Strength::to_json() const {
   Json j = Json::object();
   j.set("strength_Pa", strength);
-  j.set("strain_at_strength", strain_at_strength);
+  j.set("strength_definition", fmt::format("mean stress over strain [{:.4g}, {:.4g}] (the plateau level)", plateau_from, window_end));
+  j.set("peak_strength_Pa", peak);
+  j.set("strain_at_peak", strain_at_peak);
+  j.set("end_stress_Pa", end_stress);
   j.set("strength_window_end_strain", window_end);
   j.set("still_rising", still_rising);
   j.set("yield_stress_Pa", yield_stress ? Json(*yield_stress) : Json());

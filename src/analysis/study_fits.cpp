@@ -73,6 +73,8 @@ const Quantity kQuantities[] = {
     {"G_volume_average_Pa", {"moduli_volume_average", "G_Pa"}},
     {"E_volume_average_Pa", {"moduli_volume_average", "E_Pa"}},
     {"strength_Pa", {"strength", "strength_Pa"}},
+    {"peak_strength_Pa", {"strength", "peak_strength_Pa"}},
+    {"stress_at_99_tmd_Pa", {"stress_at_99_tmd", "punch_stress_Pa"}},
     {"yield_stress_Pa", {"strength", "yield_stress_Pa"}},
     {"yield_strain", {"strength", "yield_strain"}},
     {"density_kg_m3", {"density_kg_m3"}},

@@ -227,8 +227,8 @@ void register_analysis(CLI::App& app) {
     fmt::print("from volume averages: M = {:.4g} GPa, K = {:.4g} GPa, G = {:.4g} GPa, E = {:.4g} GPa\n",
                n({"moduli_volume_average", "M_Pa"}) / 1e9, n({"moduli_volume_average", "K_Pa"}) / 1e9,
                n({"moduli_volume_average", "G_Pa"}) / 1e9, n({"moduli_volume_average", "E_Pa"}) / 1e9);
-    fmt::print("strength = {:.4g} MPa at strain {:.4g}; yield = {:.4g} MPa at strain {:.4g}\n",
-               n({"strength", "strength_Pa"}) / 1e6, n({"strength", "strain_at_strength"}),
+    fmt::print("strength (plateau mean) = {:.4g} MPa, peak {:.4g} MPa at strain {:.4g}; yield = {:.4g} MPa at strain {:.4g}\n",
+               n({"strength", "strength_Pa"}) / 1e6, n({"strength", "peak_strength_Pa"}) / 1e6, n({"strength", "strain_at_peak"}),
                n({"strength", "yield_stress_Pa"}) / 1e6, n({"strength", "yield_strain"}));
     fmt::print("punch vs volume-average stress: rms difference {:.3g} % of max\n",
                100 * n({"agreement", "punch_vs_minus_syy", "rms_relative"}));

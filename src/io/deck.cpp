@@ -118,6 +118,20 @@ std::vector<std::string> DeckTable::keys() const {
   return out;
 }
 
+namespace {
+void mark_all(const toml::node& n, std::set<const toml::node*>& used) {
+  used.insert(&n);
+  if (auto* t = n.as_table())
+    for (auto&& [k, v] : *t) mark_all(v, used);
+  else if (auto* a = n.as_array())
+    for (auto& v : *a) mark_all(v, used);
+}
+}  // namespace
+
+void DeckTable::accept(const std::string& key) const {
+  if (auto* n = static_cast<const toml::node*>(child(key))) mark_all(*n, deck_->impl_->used);
+}
+
 const void* DeckTable::child(const std::string& key) const {
   const toml::node* n = tbl(node_).get(key);
   if (n) deck_->impl_->used.insert(n);

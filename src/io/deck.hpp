@@ -29,8 +29,9 @@ class DeckTable {
   std::vector<double> quantities(const std::string& key, const Dimension& d) const;
   std::vector<std::string> strings(const std::string& key) const;
 
-  // Marks a key as read whatever its type (values checked elsewhere, e.g. study overrides).
-  void accept(const std::string& key) const { child(key); }
+  // Marks a key and everything under it as read whatever its type (values checked elsewhere, e.g.
+  // study overrides, which may be whole arrays of tables such as "contact.pair").
+  void accept(const std::string& key) const;
 
   DeckTable table(const std::string& key) const;  // required sub-table
   std::optional<DeckTable> optional_table(const std::string& key) const;
