@@ -231,7 +231,8 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             d = Jn * n + Jt;
             book(a, partner, d, std::abs(Jn), Jt.norm());
             // energy held at the end of the step, F^2 / 2k per spring with F = J/dt; half per side
-            out.energy += 0.25 * (kn * sn * sn * cn * cn + (kt > 0.0 ? Jt.squaredNorm() / (dt * dt * kt) : 0.0));
+            // (from the impulse, so a capped layer holds cap^2 / 2k, not the energy of its whole jump)
+            out.energy += 0.25 * (Jn * Jn / (dt * dt * kn) + (kt > 0.0 ? Jt.squaredNorm() / (dt * dt * kt) : 0.0));
             continue;
           }
         }

@@ -270,11 +270,16 @@ TEST(NodeLaw, FlowingBinderLayerCapsItsNormalTraction) {
     // from rest the step adds no closure (the cap's impulse only slows the fields apart): no flow work
     EXPECT_EQ(w, 0.0);
   }
-  // Past its thickness a flowing layer still pushes at its cap (the plain layer hands over to Coulomb).
+  // Past its thickness a flowing layer still pushes at its cap (the plain layer hands over to Coulomb),
+  // and holds the elastic energy of the cap, F^2 / 2k with F = cap x area (half per side, both sides
+  // here), not 1/2 k jump^2 of its whole closure (which grows without bound as grains pass through).
   LayerNode deep(4e-6, 4e-6, 6e-6, 0.0, mu, true);
   deep.cm.layers[0].flow_stress = 1e6;
-  field_contact<2>(deep.g, deep.cm, 2, dt, 0.0, nullptr, true);
+  double stored = 0;
+  field_contact<2>(deep.g, deep.cm, 2, dt, 0.0, nullptr, true, &stored);
   EXPECT_NEAR(deep.g.mom[0].x(), -dt * area * 1e6, 1e-9 * dt * area * 1e6);
+  const double F = area * 1e6, k = area * 3.6e8 / 4e-6;
+  EXPECT_NEAR(stored, 0.5 * F * F / k, 1e-9 * F * F / k);
 }
 
 // The flow work: fields closing at a speed v for one step against a capped layer dissipate the cap
