@@ -63,6 +63,11 @@ extern "C" void on_stop_signal(int sig) {
   }
   g_stop_signal.store(sig);
 }
+}  // namespace
+
+bool stop_signal_received() { return g_stop_signal.load() != 0; }
+
+namespace {
 class StopSignals {
  public:
   explicit StopSignals(bool on) : on_(on) {

@@ -114,4 +114,8 @@ class Runner {
   ThreadChoice threads_;
 };
 
+// True once SIGINT or SIGTERM arrived during the last Runner::run, also when that run still reached
+// its end (the signal came after its last checkpoint row): a study must then stop, not start the next run.
+bool stop_signal_received();
+
 }  // namespace pbx

@@ -587,6 +587,14 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       }
       fs::remove(ckpt);  // finished: the study never restarts it
       analyze_run_to_file(dir.string(), s.analysis);
+      if (stop_signal_received()) {
+        // the signal came after the run's last checkpoint row, so the run finished: the study
+        // stops before the next one (it used to start it, and the signal was forgotten)
+        std::fprintf(stderr, "pbxmpm study: a stop signal arrived as run %s finished; the study stops here: run the "
+                             "same `pbxmpm study` command to continue it\n", r.id.c_str());
+        interrupted = true;
+        break;
+      }
     } catch (const Interrupted& e) {
       // the run saved a checkpoint: the study stops here, and the same command continues it
       ++failed;

@@ -328,3 +328,40 @@ TEST_F(Faults, StudiesKilledAtRandomPointsResumeBitForBit) {
     }
   }
 }
+
+// A stop signal that arrives after a run's last checkpoint row lets that run finish; the study must
+// then stop before the next run (it used to start it: the signal was forgotten, and a study sent
+// SIGTERM went on for every remaining run). Eight rows per run; the signal once the first run has
+// written its seventh, so the next row is its last and no checkpoint is taken. The same command
+// then finishes the study, with the uninterrupted study's histories.
+TEST_F(Faults, ASignalAsARunFinishesStopsTheStudy) {
+  write("base.toml", column_deck(0.01, 10, 0, 8));
+  const std::string study =
+      write("study.toml", "[study]\nname = \"sig\"\nbase = \"base.toml\"\n"
+                          "[[study.group]]\nname = \"ms\"\nkey = \"solver.mass_scaling\"\nvalues = [10, 20]\n"
+                          "[analysis]\nlinear_window = [0.004, 0.01]\n");  // eight rows: the window by hand
+  const fs::path ref = dir / "ref", out = dir / "out", log = dir / "out.log";
+  const Result r0 = shell(fmt::format("{{pbx}} study {} --out {} -q --no-report", study, ref.string()));
+  ASSERT_EQ(r0.code, 0) << r0.output;
+  const std::vector<std::string> args = {"study", study, "--out", out.string(), "-q", "--no-report"};
+  const pid_t pid = spawn(args, log);
+  ASSERT_GT(pid, 0);
+  const fs::path first = out / "runs" / "ms-10-s1" / "history.csv";
+  auto rows = [&] {
+    const std::string h = slurp(first);
+    return h.empty() ? 0L : std::count(h.begin(), h.end(), '\n') - 1;  // less the header
+  };
+  for (int k = 0; k < 60000 && rows() < 7; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_EQ(rows(), 7) << slurp(log);
+  kill(pid, SIGTERM);
+  const int code = wait_code(pid);
+  EXPECT_NE(code, 0) << slurp(log);
+  EXPECT_NE(slurp(log).find("the study stops here"), std::string::npos) << slurp(log);
+  EXPECT_FALSE(fs::exists(out / "runs" / "ms-20-s1" / "history.csv")) << "the second run was started:\n" << slurp(log);
+  const pid_t again = spawn(args, log);
+  ASSERT_EQ(wait_code(again), 0) << slurp(log);
+  for (const char* id : {"ms-10-s1", "ms-20-s1"}) {
+    EXPECT_EQ(slurp(out / "runs" / id / "history.csv"), slurp(ref / "runs" / id / "history.csv")) << id;
+    EXPECT_EQ(json_status(out / "runs" / id / "run.json"), "finished") << id;
+  }
+}
