@@ -290,6 +290,10 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   for (const char* key : {"code_version", "temperature_K", "ramp_strain", "mass_scaling", "specimen", "study"}) {
     if (const Json* v = run.find(key)) j.set(key, *v);
   }
+  // the deck's run title: a calibrated study says so there, and the report prints it
+  if (const Json* deck = run.find("deck"))
+    if (const Json* rt = deck->find("run"))
+      if (const Json* title = rt->find("title"); title && title->is_string()) j.set("title", *title);
   const Json* spec = run.find("specimen");
   j.set("density_kg_m3", number_or(spec, "density_kg_m3", std::nan("")));
   j.set("porosity", number_or(spec, "porosity", std::nan("")));

@@ -76,7 +76,7 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
   r << fmt::format(R"({{"status": "{}", "code_version": "synthetic", "temperature_K": {}, "ramp_strain": {},
  "mass_scaling": 100, "specimen": {{"density_kg_m3": {}, "porosity": {}, "tmd_kg_m3": 1942, "width_m": 1e-3,
  "height_m": 1.2e-3}}, "study": {{"group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}},
- "unknown_extra": [1, 2, {{"a": null}}]}})",
+ "deck": {{"run": {{"title": "synthetic confined compression"}}}}, "unknown_extra": [1, 2, {{"a": null}}]}})",
                    s.status, s.temperature_K, s.ramp_strain, s.density_kg_m3, s.porosity, s.group, s.temperature_K,
                    s.density_kg_m3 / 1e3, s.seed);
 }

@@ -103,6 +103,8 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
     EXPECT_NEAR(at(a, {"strength", "strength_Pa"}) / mean, 1.0, 1e-5);
     EXPECT_NEAR(at(a, {"strength", "strength_Pa"}) / 32.8e6, 1.0, 0.01);
   }
+  // the deck's run title is carried over (a calibrated study says so there, and the report prints it)
+  EXPECT_EQ(a.find("title")->as_string(), "synthetic confined compression");
   // Not run far enough for 99 % TMD (1787 kg/m3 of 1942 needs 7.05 % strain): null and a note.
   EXPECT_TRUE(a.find("stress_at_99_tmd")->find("punch_stress_Pa")->is_null());
   EXPECT_NEAR(at(a, {"stress_at_99_tmd", "strain"}), 1.0 - 1787.0 / (0.99 * 1942.0), 1e-12);

@@ -396,6 +396,9 @@ def main():
               "; ".join(f"{m.get('id')} ({m.get('why')})" for m in left_out) +
               ". Fits, trends and tables below use only the runs present.")
     versions = sorted({str(get(r["a"], "code_version", default="?")) for r in runs})
+    titles = sorted({str(get(r["a"], "title", default="")) for r in runs} - {""})
+    if titles:  # a calibrated study says so in its runs' title
+        rep.p("Run title: " + "; ".join(titles) + ".")
     rep.p(f"Study '{study.get('name', '?')}': {len(runs)} runs, {len(conds)} conditions, up to {nseeds} seed(s) "
           f"per condition; code version(s): {', '.join(versions)}. Values are mean ± standard deviation over seeds "
           f"(std = 0 with one seed). Fitted constants carry {100 * fits.get('confidence', 0.95):.0f} % confidence "
