@@ -82,6 +82,121 @@ Vec<D> field_displacement(double m, const Vec<D>& moff, const Vec<D>& mref, cons
   const Mat<D> Fbar = mdef / m;
   return (xc - mref / m) + (Mat<D>::Identity() - Fbar.inverse()) * (xi - xc);
 }
+
+// One side of an exchange at a node: one field, or the sum of several (the rest of a field).
+template <int D>
+struct Side {
+  double m = 0;
+  Vec<D> p = Vec<D>::Zero(), g = Vec<D>::Zero(), x = Vec<D>::Zero();
+  Vec<D> X = Vec<D>::Zero(), N = Vec<D>::Zero();  // binder_layer sums
+  Mat<D> F = Mat<D>::Zero();
+  double b = 0, t = 0;
+  void add(const Grid<D>& grid, long k, bool layers) {
+    m += grid.mass[k];
+    p += grid.mom[k];
+    g += grid.vgrad[k];
+    x += grid.moff[k];
+    if (layers) {
+      X += grid.mref[k];
+      F += grid.mdef[k];
+      b += grid.mbond[k];
+      t += grid.minvt[k];
+      N += grid.mnorm[k];
+    }
+  }
+  // most of its mass is bonded particles (of a grain-grain contact)
+  bool bonded() const { return b >= 0.5 * m; }
+};
+
+// What a binder layer between a and r does at the node.
+enum class LayerState {
+  coulomb,  // no spring here: squeezed out, torn open, or no interface area
+  waits,    // the pass after P2G: the fields move on their own until the spring acts
+  acts      // the spring's impulse d on a (-d on r)
+};
+
+template <int D>
+struct LayerImpulse {
+  LayerState state = LayerState::coulomb;
+  Vec<D> d = Vec<D>::Zero();
+  double jn = 0, jt = 0;  // |normal|, |tangential| impulse
+  double work = 0;        // plastic work of a flowing layer over the step, J
+  double energy = 0;      // the spring's energy at the end of the step, J
+};
+
+// The spring of a binder layer between a and r (both bonded), backward Euler in the jump.
+template <int D>
+LayerImpulse<D> layer_impulse(const LayerLaw& L, const Side<D>& a, const Side<D>& r, const Vec<D>& xi, double dt,
+                              bool after_update) {
+  LayerImpulse<D> out;
+  const Vec<D> jump = field_displacement<D>(r.m, r.x, r.X, r.F, xi) - field_displacement<D>(a.m, a.x, a.X, a.F, xi);
+  // Normal: from the contact normals the bonded particles carry (set at the start from the
+  // direction of the touching grain, mapped with F^-T), a's towards r and r's towards a. Area: the
+  // interface part of the volume gradients, 1/2 (g_a - g_r).n; the gradients alone also hold the
+  // die walls and free surfaces at the edges of a contact, which tilt a gradient normal by up to
+  // 55 degrees and add 40 % to the area there.
+  const Vec<D> nl = a.N - r.N;
+  const double nln = nl.norm();
+  const Vec<D> nu = nln > 0.0 ? Vec<D>(nl / nln) : Vec<D>(Vec<D>::Zero());
+  const double gln = 0.5 * std::abs((a.g - r.g).dot(nu));
+  // A node without interface area (gln = 0: the particles' normals cancel) has no spring to act:
+  // Coulomb, as for a squeezed-out layer (it used to get no contact at all).
+  // The layer's 1/t at the node: the mean over the bonded particles of both sides (each carries
+  // its contact's 1/t; a direct-stiffness law carries 1).
+  const double inv_t = (a.t + r.t) / (a.b + r.b);
+  // Outside its range the layer is gone: squeezed out past closure x t, or torn open past t (a
+  // normal strain of 100 %); the pair is then Coulomb (inactive while apart). Without the tear the
+  // spring pulled ever harder on fields that had parted, and a light field at the edge of a
+  // grain's support was thrown: TATB particles inverted at 2.6-3.3 % strain at 353-373 K on the
+  // paper specimen. A flowing layer (flow_stress/flow_factor) is never squeezed out: it keeps its
+  // capped traction however far the grains pass into each other.
+  const double jn = jump.dot(nu) * inv_t;
+  const bool out_of_range = !L.binder.empty() && ((!L.flows() && -jn > L.closure) || jn > 1.0);
+  if (!(gln > 0.0) || out_of_range) return out;
+  if (!after_update) {
+    out.state = LayerState::waits;
+    return out;
+  }
+  out.state = LayerState::acts;
+  // Backward Euler in the jump: the impulse J that the spring exerts over the step with the jump
+  // at the end of it, s - dt J / m_red, where s = jump + dt (v_r - v_a) is the end-of-step jump
+  // without it. Stable for any stiffness; sticks as k dt^2/m_red grows.
+  const Vec<D>& n = nu;
+  const double area = gln;
+  const double mred = a.m * r.m / (a.m + r.m);
+  const Vec<D> sv = jump + dt * (r.p / r.m - a.p / a.m);
+  const double sn = sv.dot(n);
+  const Vec<D> st = sv - sn * n;
+  const double kn = area * L.kn * inv_t, kt = area * L.kt * inv_t;
+  const double cn = 1.0 / (1.0 + kn * dt * dt / mred), ct = 1.0 / (1.0 + kt * dt * dt / mred);
+  double Jn = dt * kn * cn * sn;
+  Vec<D> Jt = (dt * kt * ct) * st;
+  if (L.flows() && sn < 0.0) {
+    // The film flows at the cap: the traction stays there and the closure beyond the cap's
+    // elastic part is plastic (booked as dissipated work).
+    const double lim = dt * area * L.flow_cap();
+    if (-Jn > lim) {
+      Jn = -lim;
+      const double closing = jump.dot(n) - (sn - dt * Jn / mred);
+      out.work = (lim / dt) * std::max(0.0, closing);
+    }
+  }
+  // Eq. 7 with S_a = 0 on the layer: its shear traction is at most friction x its compressive
+  // normal traction (sn < 0: r closes on a), none in tension. The cap acts on the spring's total
+  // tangential jump (a node keeps no slip history), so the capped response is nonlinear elastic:
+  // it dissipates nothing, and unloading follows it back.
+  if (L.shear_cap) {
+    const double cap = sn < 0.0 ? L.friction * std::abs(Jn) : 0.0, jt = Jt.norm();
+    if (jt > cap) Jt *= jt > 0.0 ? cap / jt : 0.0;
+  }
+  out.d = Jn * n + Jt;
+  out.jn = std::abs(Jn);
+  out.jt = Jt.norm();
+  // energy held at the end of the step, F^2 / 2k per spring with F = J/dt (from the impulse, so a
+  // capped layer holds cap^2 / 2k, not the energy of its whole jump)
+  out.energy = 0.5 * (Jn * Jn / (dt * dt * kn) + (kt > 0.0 ? Jt.squaredNorm() / (dt * dt * kt) : 0.0));
+  return out;
+}
 }  // namespace
 
 template <int D>
@@ -116,129 +231,64 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
       for (int f = 0; f < deformable; ++f)
         if (grid.mass[grid.at(f, i)] > mass_eps) present.push_back(f);
       if (present.size() < 2) continue;
+      const std::size_t np = present.size();
 
       double mtot = 0;
       for (int a : present) mtot += grid.mass[grid.at(a, i)];
+      const Vec<D> xi = grid.position(i) - grid.origin;
 
-      for (std::size_t ia = 0; ia < present.size(); ++ia) {
+      for (std::size_t ia = 0; ia < np; ++ia) {
         const int a = present[ia];
         const long ka = grid.at(a, i);
         const double ma = grid.mass[ka];
         const Vec<D>& pa = grid.mom[ka];
-        // The rest r: every other field at the node, summed explicitly (not P - p_a) so that a
-        // two-field node gets exactly opposite impulses.
-        double mr = 0;
-        Vec<D> pr = Vec<D>::Zero(), gr = Vec<D>::Zero(), xr = Vec<D>::Zero();
-        Vec<D> Xr = Vec<D>::Zero();  // binder_layer sums of the rest
-        Mat<D> Fr = Mat<D>::Zero();
-        Vec<D> Nr = Vec<D>::Zero();
-        double br = 0, tr = 0;
+        Side<D> A;
+        A.add(grid, ka, layers);
+        // The rest r: every other field at the node, summed explicitly (not P - p_a) so that a two-field node gets exactly opposite impulses.
+        Side<D> R;
         int partner = -1;
         double mpartner = -1;
-        for (int b : present) {
+        for (std::size_t ib = 0; ib < np; ++ib) {
+          const int b = present[ib];
           if (b == a) continue;
           const long kb = grid.at(b, i);
-          mr += grid.mass[kb];
-          pr += grid.mom[kb];
-          gr += grid.vgrad[kb];
-          xr += grid.moff[kb];
-          if (layers) {
-            Xr += grid.mref[kb];
-            Fr += grid.mdef[kb];
-            br += grid.mbond[kb];
-            tr += grid.minvt[kb];
-            Nr += grid.mnorm[kb];
-          }
+          R.add(grid, kb, layers);
           if (grid.mass[kb] > mpartner) {
             mpartner = grid.mass[kb];
             partner = b;
           }
         }
+        Vec<D>& d = dp[ia];
+        d.setZero();
+        const double mr = R.m;
+        const Vec<D>& pr = R.p;
         const Vec<D> stick = (ma * pr - mr * pa) / (ma + mr);
         const PairLaw& law = cm(a, partner);
-        Vec<D>& d = dp[static_cast<std::size_t>(ia)];
         if (law.law == ContactLaw::weld) {
           d = stick;
           book(a, partner, d, 0.0, 0.0);
           continue;
         }
-        d.setZero();
-        const Vec<D> n = contact_normal<D>(cm.normal, grid.vgrad[ka], gr, a < partner);
+        const Vec<D> n = contact_normal<D>(cm.normal, grid.vgrad[ka], R.g, a < partner);
         if (n.isZero()) continue;
-        if (law.law == ContactLaw::binder_layer && layers && grid.mbond[ka] >= 0.5 * ma && br >= 0.5 * mr) {
+        if (law.law == ContactLaw::binder_layer && layers && A.bonded() && R.bonded()) {
           // Both sides bonded (mostly particles of a grain-grain contact): the layer's spring acts,
           // unless the layer has been squeezed out (then Coulomb, below).
           const LayerLaw& L = cm.layers[static_cast<std::size_t>(law.layer)];
-          const Vec<D> xi = grid.position(i) - grid.origin;
-          const Vec<D> jump = field_displacement<D>(mr, xr, Xr, Fr, xi) -
-                              field_displacement<D>(ma, grid.moff[ka], grid.mref[ka], grid.mdef[ka], xi);
-          // Normal: from the contact normals the bonded particles carry (set at the start from
-          // the direction of the touching grain, mapped with F^-T), a's towards r and r's
-          // towards a. Area: the interface part of the volume gradients, 1/2 (g_a - g_r).n; the
-          // gradients alone also hold the die walls and free surfaces at the edges of a contact,
-          // which tilt a gradient normal by up to 55 degrees and add 40 % to the area there.
-          const Vec<D> nl = grid.mnorm[ka] - Nr;
-          const double nln = nl.norm();
-          const Vec<D> nu = nln > 0.0 ? Vec<D>(nl / nln) : Vec<D>(Vec<D>::Zero());
-          const double gln = 0.5 * std::abs((grid.vgrad[ka] - gr).dot(nu));
-          // A node without interface area (gln = 0: the particles' normals cancel) has no spring
-          // to act: Coulomb below, as for a squeezed-out layer (it used to get no contact at all).
-          // The layer's 1/t at the node: the mean over the bonded particles of both sides (each
-          // carries its contact's 1/t; a direct-stiffness law carries 1).
-          const double inv_t = (grid.minvt[ka] + tr) / (grid.mbond[ka] + br);
-          // Outside its range the layer is gone: squeezed out past closure x t, or torn open past
-          // t (a normal strain of 100 %); the pair is then Coulomb (inactive while apart). Without
-          // the tear the spring pulled ever harder on fields that had parted, and a light field at
-          // the edge of a grain's support was thrown: TATB particles inverted at 2.6-3.3 % strain
-          // at 353-373 K on the paper specimen.
-          const double jn = jump.dot(nu) * inv_t;
-          // A flowing layer (flow_stress/flow_factor) is never squeezed out: it keeps its capped
-          // traction however far the grains pass into each other.
-          const bool out_of_range = !L.binder.empty() && ((!L.flows() && -jn > L.closure) || jn > 1.0);
-          if (gln > 0.0 && !out_of_range) {
-            if (!after_update) continue;  // the fields move on their own until the spring acts
-            // Backward Euler in the jump: the impulse J that the spring exerts over the step with
-            // the jump at the end of it, s - dt J / m_red, where s = jump + dt (v_r - v_a) is the
-            // end-of-step jump without it. Stable for any stiffness; sticks as k dt^2/m_red grows.
-            const Vec<D>& n = nu;
-            const double area = gln;
-            const double mred = ma * mr / (ma + mr);
-            const Vec<D> sv = jump + dt * (pr / mr - pa / ma);
-            const double sn = sv.dot(n);
-            const Vec<D> st = sv - sn * n;
-            const double kn = area * L.kn * inv_t, kt = area * L.kt * inv_t;
-            const double cn = 1.0 / (1.0 + kn * dt * dt / mred), ct = 1.0 / (1.0 + kt * dt * dt / mred);
-            double Jn = dt * kn * cn * sn;
-            Vec<D> Jt = (dt * kt * ct) * st;
-            if (L.flows() && sn < 0.0) {
-              // The film flows at the cap: the traction stays there and the closure beyond the
-              // cap's elastic part is plastic (booked as dissipated work; half per side).
-              const double lim = dt * area * L.flow_cap();
-              if (-Jn > lim) {
-                Jn = -lim;
-                const double closing = jump.dot(n) - (sn - dt * Jn / mred);
-                work += 0.5 * (lim / dt) * std::max(0.0, closing);
-              }
-            }
-            // Eq. 7 with S_a = 0 on the layer: its shear traction is at most friction x its
-            // compressive normal traction (sn < 0: r closes on a), none in tension. The cap acts on
-            // the spring's total tangential jump (a node keeps no slip history), so the capped
-            // response is nonlinear elastic: it dissipates nothing, and unloading follows it back.
-            if (L.shear_cap) {
-              const double cap = sn < 0.0 ? L.friction * std::abs(Jn) : 0.0, jt = Jt.norm();
-              if (jt > cap) Jt *= jt > 0.0 ? cap / jt : 0.0;
-            }
-            d = Jn * n + Jt;
-            book(a, partner, d, std::abs(Jn), Jt.norm());
-            // energy held at the end of the step, F^2 / 2k per spring with F = J/dt; half per side
-            // (from the impulse, so a capped layer holds cap^2 / 2k, not the energy of its whole jump)
-            out.energy += 0.25 * (Jn * Jn / (dt * dt * kn) + (kt > 0.0 ? Jt.squaredNorm() / (dt * dt * kt) : 0.0));
+          const LayerImpulse<D> J = layer_impulse<D>(L, A, R, xi, dt, after_update);
+          if (J.state == LayerState::waits) continue;
+          if (J.state == LayerState::acts) {
+            d = J.d;
+            book(a, partner, d, J.jn, J.jt);
+            // half of the spring's energy and work per side: both sides evaluate the same spring
+            out.energy += 0.5 * J.energy;
+            work += 0.5 * J.work;
             continue;
           }
         }
         const double dn = stick.dot(n);
         if (dn >= 0.0) continue;  // separating: no contact
-        if (reach > 0.0 && (xr / mr - grid.moff[ka] / ma).dot(n) > reach) continue;  // surfaces apart
+        if (reach > 0.0 && (R.x / mr - grid.moff[ka] / ma).dot(n) > reach) continue;  // surfaces apart
         const Vec<D> t = stick - dn * n;
         const double tn = t.norm();
         double cap = 0;
@@ -263,8 +313,8 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
       }
       // Exact momentum balance at the node (round-off and 3+ field nodes).
       Vec<D> residual = Vec<D>::Zero();
-      for (std::size_t ia = 0; ia < present.size(); ++ia) residual += dp[ia];
-      for (std::size_t ia = 0; ia < present.size(); ++ia) {
+      for (std::size_t ia = 0; ia < np; ++ia) residual += dp[ia];
+      for (std::size_t ia = 0; ia < np; ++ia) {
         const long ka = grid.at(present[ia], i);
         grid.mom[ka] += dp[ia] - (grid.mass[ka] / mtot) * residual;
       }

@@ -127,6 +127,7 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
       columns_.push_back("field_overlap_m2_per_m");
     }
   }
+  if (sc_.contact.has_layers()) columns_.push_back("layer_energy_J_per_m");
   if (!opt_.out_dir.empty()) {
     lock_ = OutputLock(opt_.out_dir, "run");
     if (!restart) {
@@ -239,6 +240,7 @@ Measurement Runner<D>::measure() {
   if constexpr (D == 2) {
     if (overlap_) m.field_overlap.push_back(overlap_->area(P));
   }
+  if (sc_.contact.has_layers()) m.layer_energy.push_back(solver_.layer_energy());
   t_last_row_ = t;
   return m;
 }
@@ -275,6 +277,7 @@ std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
   for (auto& f : m.pair_force)
     for (double x : f) v.push_back(x);
   for (double x : m.field_overlap) v.push_back(x);
+  for (double x : m.layer_energy) v.push_back(x);
   return v;
 }
 

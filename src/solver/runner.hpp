@@ -34,6 +34,8 @@ struct Measurement {
   // Area where the particle domains of different fields overlap (contact/field_overlap.hpp),
   // m^2 per m; empty when not measured (3-D, or a single deformable field).
   std::vector<double> field_overlap;
+  // Energy the binder-layer springs hold (part of internal; runs with binder_layer laws only), J/m.
+  std::vector<double> layer_energy;
 };
 
 struct RunOptions {

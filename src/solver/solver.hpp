@@ -35,6 +35,8 @@ class Solver {
   double kinetic_energy() const;           // with the scaled (inertial) masses
   // integrated stress work, plus the energy held by binder-layer springs (field contact)
   double internal_energy() const { return internal_ + layer_energy_; }
+  // the part of it the binder-layer springs hold at the end of the last step
+  double layer_energy() const { return layer_energy_; }
   double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
   long stray_count() const { return static_cast<long>(bins_.strays.size()); }  // particles outside their home strip
   double max_wave_speed() const { return cmax_; }            // unscaled, m/s
