@@ -20,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "solver/solver.hpp"
+#include "solver/kinematics.hpp"
 
 namespace pbx {
 
@@ -78,7 +79,7 @@ void Solver<D>::particle_pass_impl() {
         std::uint32_t worst = kNone;
         std::fill(count.begin(), count.end(), 0L);
         for (long p = c0; p < c1; ++p) {
-          P.F[p] = (Mat<D>::Identity() + dt * P.L[p]) * P.F[p];
+          P.F[p] = advance_deformation_gradient<D>(P.F[p], P.L[p], dt);
           const double J = P.F[p].determinant();
           if (!(J > 0)) worst = std::min(worst, static_cast<std::uint32_t>(p));
           P.volume[p] = J * P.volume0[p];

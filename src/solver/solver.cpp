@@ -1,4 +1,5 @@
 #include "solver/solver.hpp"
+#include "solver/kinematics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -598,7 +599,7 @@ void Solver<D>::update_stress() {
       std::uint32_t worst = kNone;
       for (long k = b; k < e; ++k) {
         const std::uint32_t p = st.index[static_cast<std::size_t>(k)];
-        P.F[p] = (Mat<D>::Identity() + dt * P.L[p]) * P.F[p];
+        P.F[p] = advance_deformation_gradient<D>(P.F[p], P.L[p], dt);
         const double J = P.F[p].determinant();
         if (!(J > 0)) worst = std::min(worst, p);
         P.volume[p] = J * P.volume0[p];
