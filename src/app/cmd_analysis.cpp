@@ -162,7 +162,7 @@ AnalyzeArgs with_study_options(AnalyzeArgs a, bool quiet = false) {
 void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
   c->add_option("--window", a.window, "linear window LO:HI in strain (default: found automatically)");
   c->add_option("--plateau", a.plateau, "plateau window LO:HI in strain for the yield intersection");
-  c->add_option("--strength-strain", a.strength_strain, "compression strength = max stress up to this strain (default 0.03)");
+  c->add_option("--strength-strain", a.strength_strain, "end of the strength window: compression strength = mean stress from strength_plateau_from (0.005) to this strain, the peak reported beside it (default 0.03)");
   c->add_option("--window-signal", a.window_signal, "curve for the automatic window: volume_average (default) or punch");
   c->add_option("--window-tolerance", a.tolerance, "automatic window: allowed drop of the end tangent (default 0.10)");
   c->add_option("--ke-ie-limit", a.ke_ie, "flag runs whose KE/IE exceeds this from the linear window's start; the automatic window starts where KE/IE has settled below it (default 0.05)");

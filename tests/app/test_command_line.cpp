@@ -255,3 +255,25 @@ TEST_F(CommandLine, IgnoredOptionsAreRefused) {
   expect_refused(fmt::format("run {} --restart {} -q", deck, (part / "checkpoint.h5").string()),
                  "give a deck or --restart CHECKPOINT, not both");
 }
+
+// tools/completion/pbxmpm.bash completes subcommands, each subcommand's options (read from the
+// binary's own --help, so a new option is completed without editing the script) and file names.
+TEST_F(CommandLine, BashCompletionOffersSubcommandsOptionsAndFiles) {
+  const std::string script = (fs::path(PBXMPM_SOURCE_DIR) / "tools" / "completion" / "pbxmpm.bash").string();
+  const std::string examples = PBXMPM_EXAMPLES_DIR;
+  auto complete = [&](const std::string& words) {
+    return pbx::test::shell(fmt::format(
+        "bash -c 'source \"{}\"; COMP_WORDS=({} {}); COMP_CWORD=$((${{#COMP_WORDS[@]}}-1)); _pbxmpm; "
+        "printf \"%s\\n\" \"${{COMPREPLY[@]}}\"'",
+        script, PBXMPM_BINARY, words));
+  };
+  pbx::test::Result r = complete("st");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output, "study\nstatus\n");
+  r = complete("run --checkpoint-m");
+  EXPECT_EQ(r.output, "--checkpoint-minutes\n");
+  r = complete("study --se");
+  EXPECT_EQ(r.output, "--set\n");
+  r = complete(fmt::format("check {}/paper/qui", examples));
+  EXPECT_EQ(r.output, fmt::format("{}/paper/quick.toml\n{}/paper/quick_grain_contact.toml\n", examples, examples));
+}
