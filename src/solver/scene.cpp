@@ -139,7 +139,7 @@ void seed_subcells(const Grid<D>& g, int ppc, const Vec<D>& lo, const Vec<D>& hi
 }  // namespace
 
 template <int D>
-Scene<D> build_scene(const Deck& deck) {
+Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   Scene<D> sc;
   const DeckTable root = deck.root();
 
@@ -290,7 +290,7 @@ Scene<D> build_scene(const Deck& deck) {
       if (fields == "colours" && packing.image.nx == 0) {
         const int before = packing.stats.colours;
         if (const int clashes = separate_colours_within(packing, 2.0 * h); clashes > 0)
-          fmt::print(stderr,
+          if (notes == SceneNotes::print) fmt::print(stderr,
                      "pbxmpm: note: {} pair(s) of grains of one contact colour come within 2 cells ({:.3g} m) of each "
                      "other at this cell size and would share grid nodes (one body, no contact law): re-coloured "
                      "with {} colours (the packing had {})\n",
@@ -298,7 +298,7 @@ Scene<D> build_scene(const Deck& deck) {
       }
       sc.packing_stats = packing.stats;
       if (packing.grains_shrunk > 0)
-        fmt::print(stderr,
+        if (notes == SceneNotes::print) fmt::print(stderr,
                    "pbxmpm: note: the packer shrank {} grain(s), by up to {:.2g} % of the diameter, to remove the last "
                    "overlaps (packing.json: grains_shrunk, max_relative_shrink)\n",
                    packing.grains_shrunk, 100 * packing.max_shrink);
@@ -328,7 +328,7 @@ Scene<D> build_scene(const Deck& deck) {
       for (std::size_t p = 0; p < sc.particles.size(); ++p) solid += sc.particles.volume0[p];
       const double phi = 1.0 - solid / (packing.box[0] * packing.box[1]);
       if (std::abs(phi - packing.stats.porosity) > 0.002)
-        fmt::print(stderr,
+        if (notes == SceneNotes::print) fmt::print(stderr,
                    "pbxmpm: note: the particle specimen's porosity {:.5f} differs from the packing's {:.5f} by {:+.5f} at "
                    "this cell size (rasterisation); run.json's specimen.porosity and density are the particles'\n",
                    phi, packing.stats.porosity, phi - packing.stats.porosity);
@@ -482,7 +482,7 @@ Scene<D> build_scene(const Deck& deck) {
         if (in && covered++ == 0) first = p;
       }
       if (covered > 0)
-        fmt::print(stderr,
+        if (notes == SceneNotes::print) fmt::print(stderr,
                    "pbxmpm: warning: {}: rigid body '{}' starts over {} deformable particle(s) (the first: particle {} "
                    "of material '{}'); a unilateral body pushes them out or carries them from the first step\n",
                    r.where("min"), b.name, covered, first, sc.material_names[sc.particles.material[first]]);
@@ -615,7 +615,7 @@ void order_by_strip(Scene<D>& sc) {
 
 template void order_by_strip<2>(Scene<2>&);
 template void order_by_strip<3>(Scene<3>&);
-template Scene<2> build_scene<2>(const Deck&);
-template Scene<3> build_scene<3>(const Deck&);
+template Scene<2> build_scene<2>(const Deck&, SceneNotes);
+template Scene<3> build_scene<3>(const Deck&, SceneNotes);
 
 }  // namespace pbx

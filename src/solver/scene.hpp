@@ -79,9 +79,15 @@ struct Scene {
   std::string description;
 };
 
+// Whether building a scene prints its notes and warnings (re-colouring, shrunk grains, the
+// particles' porosity, rigid bodies over particles) to stderr. A study builds every run's scene
+// once to check it before starting and again when the run starts: it checks quietly, so each note
+// is printed once per run.
+enum class SceneNotes { print, quiet };
+
 // Builds a scene from a deck; every key is validated (unknown keys are errors).
 template <int D>
-Scene<D> build_scene(const Deck& deck);
+Scene<D> build_scene(const Deck& deck, SceneNotes notes = SceneNotes::print);
 
 // Orders the particles strip by strip (the solver's scatter strips, solver/bins.hpp), creation
 // order within a strip; material batches (in storage order), history rows and slots follow.

@@ -464,7 +464,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     try {
       const std::string text = run_deck_text(s, r);
       Deck deck = run_deck(s, text, out / "runs" / r.id / "deck.toml");
-      Scene<2> scene = build_scene<2>(deck);
+      Scene<2> scene = build_scene<2>(deck, SceneNotes::quiet);  // the run prints them when it starts
       deck.check_unused();
       // an interrupted run continues from its checkpoint only if the study still gives its deck;
       // one whose header cannot be read is set aside when the run starts (below), not an error
