@@ -25,7 +25,7 @@ namespace pbx::app {
 namespace {
 
 struct MaterialOptions {
-  std::string deck, material, path, strain, rate, temperature = "293", duration, out;
+  std::string deck, material, path, strain, rate, temperature, duration, out;
   int steps = 1000;
 };
 
@@ -57,9 +57,6 @@ void run_material(const MaterialOptions& o) {
     throw InputError("give --rate or --duration, not both: the loading time (step_shear: the hold time) is "
                      "|strain| / rate");
   load.steps = o.steps;
-  const double T = option_quantity(o.temperature, dim::temperature, "--temperature");
-  if (!(T > 0.0)) throw InputError(fmt::format("--temperature must be > 0 K (got {})", T));
-
   const Deck deck = Deck::from_file(o.deck);
   const auto materials = deck.root().optional_table("materials");
   if (!materials) throw InputError(fmt::format("{}: no [materials] table in the deck", deck.name()));
@@ -67,6 +64,25 @@ void run_material(const MaterialOptions& o) {
   if (!table)
     throw InputError(fmt::format("{}: no material '{}' in the deck (found: {})", deck.name(), o.material,
                                  fmt::join(materials->keys(), ", ")));
+  // Without --temperature: the deck's run temperature, else the material's reference temperature
+  // (where its constants hold), else 293 K; the banner below says which.
+  double T = 293.0;
+  const char* from = "default";
+  const auto run = deck.root().optional_table("run");
+  if (!o.temperature.empty()) {
+    T = option_quantity(o.temperature, dim::temperature, "--temperature");
+    from = "--temperature";
+  } else if (run && run->has("temperature")) {
+    T = run->quantity("temperature", dim::temperature, 293.0);
+    from = "the deck's run.temperature";
+  } else if (table->has("reference_temperature")) {
+    // read from a second copy of the deck: reading marks a key used, and a model that takes no
+    // reference_temperature must still have it reported as an unknown key by check_unused below
+    const Deck peek = Deck::from_file(o.deck);
+    T = peek.root().table("materials").table(o.material).quantity("reference_temperature", dim::temperature);
+    from = "the material's reference_temperature";
+  }
+  if (!(T > 0.0)) throw InputError(fmt::format("--temperature must be > 0 K (got {})", T));
   MaterialContext ctx;
   ctx.temperature = T;
   ctx.name = o.material;
@@ -74,8 +90,8 @@ void run_material(const MaterialOptions& o) {
   table->check_unused();  // a misspelt key of this material is an error here as in a run
 
   const auto samples = drive_point(*m, load);
-  fmt::print(stderr, "pbxmpm material: '{}' ({}) at {} K: rho0 = {:.6g} kg/m3, c_L = {:.6g} m/s; {} ({}), {} rows\n",
-             o.material, m->model(), T, m->density(), m->initial_wave_speed(), point_path_name(load.path),
+  fmt::print(stderr, "pbxmpm material: '{}' ({}) at {} K ({}): rho0 = {:.6g} kg/m3, c_L = {:.6g} m/s; {} ({}), {} rows\n",
+             o.material, m->model(), T, from, m->density(), m->initial_wave_speed(), point_path_name(load.path),
              point_strain_meaning(load.path), samples.size());
   if (o.out.empty() || o.out == "-") {
     write_point_csv(std::cout, samples);
@@ -99,7 +115,7 @@ void register_material(CLI::App& app) {
                 "target strain, tension positive (axial ln F_xx, shear F_xy, or volumetric ln J)")
       ->required();
   c->add_option("--rate", o->rate, "strain rate magnitude, 1/s (number or quantity such as '250 1/s')");
-  c->add_option("--temperature", o->temperature, "run temperature, K (default 293)");
+  c->add_option("--temperature", o->temperature, "temperature (a plain number is K; default: the deck's run.temperature, else the material's reference_temperature, else 293 K)");
   c->add_option("--duration", o->duration, "loading time (default |strain|/rate); step_shear: hold time, s");
   c->add_option("--steps", o->steps, "number of steps / output times (default 1000)")->check(CLI::Range(1, 10000000));
   c->add_option("--out", o->out, "CSV output file (default: standard output)");

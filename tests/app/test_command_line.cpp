@@ -277,3 +277,30 @@ TEST_F(CommandLine, BashCompletionOffersSubcommandsOptionsAndFiles) {
   r = complete(fmt::format("check {}/paper/qui", examples));
   EXPECT_EQ(r.output, fmt::format("{}/paper/quick.toml\n{}/paper/quick_grain_contact.toml\n", examples, examples));
 }
+
+// `material` without --temperature drives the material at the deck's run temperature, or, in a
+// deck without [run], at the material's own reference temperature (not at a fixed 293 K), and says
+// which; --temperature overrides both (the banner is what is checked). A reference_temperature
+// given to a model that takes none stays an unknown-key error.
+TEST_F(CommandLine, MaterialTemperatureDefaultsToTheDecksOrTheMaterialsOwn) {
+  const std::string deck = (dir / "m300.toml").string();
+  std::ofstream(deck) << "[materials.m]\nmodel = \"viscoelastic_tait\"\ndensity = \"2.02 g/cm3\"\n"
+                         "reference_temperature = \"300 K\"\nlong_term_shear_modulus = \"10 MPa\"\n"
+                         "prony_shear_moduli = [\"10 MPa\"]\nprony_shear_times = [\"1e-5 s\"]\n"
+                         "tait_c = 0.08936\ntait_k0 = \"0.27 GPa\"\n";
+  const std::string load = " --material m --path uniaxial_strain --strain -1e-4 --duration 1e-4 --out -";
+  Result r = pbxmpm("material " + deck + load);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("at 300 K (the material's reference_temperature)"), std::string::npos) << r.output;
+  r = pbxmpm("material " + deck + load + " --temperature 350");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("at 350 K (--temperature)"), std::string::npos) << r.output;
+  std::ofstream(deck, std::ios::app) << "[run]\ntemperature = \"320 K\"\n";
+  r = pbxmpm("material " + deck + load);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("at 320 K (the deck's run.temperature)"), std::string::npos) << r.output;
+  const std::string elastic = (dir / "e300.toml").string();
+  std::ofstream(elastic) << "[materials.m]\nmodel = \"linear_elastic\"\ndensity = \"1000 kg/m3\"\n"
+                            "reference_temperature = \"300 K\"\nbulk_modulus = \"1 GPa\"\nshear_modulus = \"1 GPa\"\n";
+  expect_refused("material " + elastic + load, "unknown key 'materials.m.reference_temperature'");
+}
