@@ -124,9 +124,13 @@ void register_run(CLI::App& app) {
     opt.checkpoint_wall_s = 60.0 * args->checkpoint_minutes;
     Runner<2> runner(scene, opt, !args->restart.empty());
     if (!args->restart.empty()) runner.resume(ck);
-    std::fprintf(stderr, "pbxmpm: %s%s: %zu particles, %ld x %ld nodes, %d fields, end time %.4g s -> %s\n",
-                 args->restart.empty() ? "" : "restart of ", deck_name.c_str(), scene.particles.size(), scene.grid.n[0], scene.grid.n[1], scene.grid.fields,
-                 scene.control.end_time, args->out.c_str());
+    // deformable velocity fields and rigid bodies told apart (the grid holds one field per body too)
+    const int bodies = static_cast<int>(scene.bodies.size());
+    fmt::print(stderr, "pbxmpm: {}{}: {} particles, {} x {} nodes, {} deformable field{}{}, end time {:.4g} s -> {}\n",
+               args->restart.empty() ? "" : "restart of ", deck_name, scene.particles.size(), scene.grid.n[0],
+               scene.grid.n[1], scene.deformable_fields, scene.deformable_fields == 1 ? "" : "s",
+               bodies == 0 ? std::string() : fmt::format(" and {} rigid bod{}", bodies, bodies == 1 ? "y" : "ies"),
+               scene.control.end_time, args->out);
     const auto t0 = std::chrono::steady_clock::now();
     runner.run();
     // one closing line: what happened, how long, where the results are
