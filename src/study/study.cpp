@@ -169,6 +169,7 @@ StudySpec read_study(const std::string& file) {
   const DeckTable st = deck.root().table("study");
   StudySpec s;
   s.name = st.string("name");
+  s.deck = fs::absolute(file).string();
   s.base_deck = fs::absolute(deck.resolve(st.string("base"))).string();
   {
     // a folder opens as an empty stream and the study itself parses as a deck: both failed only
@@ -347,7 +348,8 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
 // removed when the study deck no longer has one).
 static void write_study_files(const StudySpec& s, const fs::path& out) {
   // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
-  std::string json = "{\n  \"name\": " + json_quote(s.name) + ",\n  \"base\": " + json_quote(s.base_deck) + ",\n  \"runs\": [\n";
+  std::string json = "{\n  \"name\": " + json_quote(s.name) + ",\n  \"deck\": " + json_quote(s.deck) +
+                     ",\n  \"base\": " + json_quote(s.base_deck) + ",\n  \"runs\": [\n";
   for (std::size_t i = 0; i < s.runs.size(); ++i) {
     const auto& r = s.runs[i];
     json += fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),

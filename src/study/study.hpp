@@ -24,6 +24,7 @@ struct StudyRunSpec {
 
 struct StudySpec {
   std::string name;
+  std::string deck;        // the study deck itself, absolute path (study.json: what `status` suggests rerunning)
   std::string base_deck;   // absolute path
   std::string base_text;
   std::vector<StudyRunSpec> runs;

@@ -119,6 +119,19 @@ std::vector<RunStatus> study_status(const std::string& study_dir) {
   return out;
 }
 
+namespace {
+// The study deck study.json records (studies written before 2026-12-05 do not: a placeholder).
+std::string study_deck(const std::string& study_dir) {
+  try {
+    const Json study = Json::read_file((fs::path(study_dir) / "study.json").string());
+    const Json* deck = study.find("deck");
+    if (deck && deck->is_string()) return deck->as_string();
+  } catch (const std::exception&) {
+  }
+  return "<study deck>";
+}
+}  // namespace
+
 std::string format_study_status(const std::vector<RunStatus>& runs, const std::string& study_dir) {
   std::string s = fmt::format("{:<28} {:<22} {:>16} {:>14} {:>12}  {}\n", "run", "state", "strain reached", "last row",
                               "checkpoint", "note");
@@ -140,7 +153,8 @@ std::string format_study_status(const std::vector<RunStatus>& runs, const std::s
   }
   s += fmt::format("{} of {} runs finished", finished, runs.size());
   if (!todo.empty())
-    s += fmt::format("; the others: pbxmpm study <study deck> --out {} --only {}", study_dir, todo);
+    s += fmt::format("; the others: pbxmpm study {} --out {} --only {} (with the study's --set options, if it had any)",
+                     study_deck(study_dir), study_dir, todo);
   return s + "\n";
 }
 

@@ -504,6 +504,8 @@ TEST(Study, StatusSaysWhereEachRunStands) {
   const std::string table = format_study_status(st, (dir / "out").string());
   EXPECT_NE(table.find("1 of 3 runs finished"), std::string::npos) << table;
   EXPECT_NE(table.find("--only " + s.runs[1].id + "," + s.runs[2].id), std::string::npos) << table;
+  // the command to continue names the study deck itself (study.json records it), not a placeholder
+  EXPECT_NE(table.find("pbxmpm study " + fs::absolute(dir / "study.toml").string() + " --out"), std::string::npos) << table;
   EXPECT_THROW(study_status((dir / "nothing").string()), InputError);
   // a run.json still "running": alive if its process (here: this test) is, interrupted if not
   const fs::path rj = dir / "out" / "runs" / s.runs[1].id / "run.json";
