@@ -17,11 +17,11 @@ LineFit fit_range(const std::vector<double>& x, const std::vector<double>& y, do
 }
 Json line_json(const LineFit& f) {
   Json j = Json::object();
-  j.set("slope_Pa", f.slope);
-  j.set("slope_std_error_Pa", f.slope_se);
-  j.set("intercept_Pa", f.intercept);
-  j.set("r2", f.r2);
-  j.set("points", f.n);
+  j["slope_Pa"] = f.slope;
+  j["slope_std_error_Pa"] = f.slope_se;
+  j["intercept_Pa"] = f.intercept;
+  j["r2"] = f.r2;
+  j["points"] = f.n;
   return j;
 }
 }  // namespace
@@ -59,25 +59,25 @@ ConfinedModuli confined_moduli_volume_average(const StressStrainCurve& c, double
 
 Json ConfinedModuli::to_json() const {
   Json j = Json::object();
-  j.set("M_Pa", M);
-  j.set("lambda_Pa", lambda);
-  j.set("lambda_z_Pa", lambda_z);
-  j.set("K_Pa", K);
-  j.set("K_isotropic_Pa", K_isotropic);
-  j.set("K_volume_average_Pa", K_volume);
-  j.set("G_Pa", G);
-  j.set("E_Pa", E);
-  j.set("nu", nu);
-  j.set("lateral_coefficient", lateral_coefficient);
-  j.set("M_volume_average_Pa", axial_vol.slope);
-  j.set("lambda_volume_average_Pa", lateral_vol.slope);
+  j["M_Pa"] = M;
+  j["lambda_Pa"] = lambda;
+  j["lambda_z_Pa"] = lambda_z;
+  j["K_Pa"] = K;
+  j["K_isotropic_Pa"] = K_isotropic;
+  j["K_volume_average_Pa"] = K_volume;
+  j["G_Pa"] = G;
+  j["E_Pa"] = E;
+  j["nu"] = nu;
+  j["lateral_coefficient"] = lateral_coefficient;
+  j["M_volume_average_Pa"] = axial_vol.slope;
+  j["lambda_volume_average_Pa"] = lateral_vol.slope;
   Json fits = Json::object();
-  fits.set("punch_stress", line_json(punch));
-  fits.set("wall_stress", line_json(wall));
-  fits.set("minus_syy", line_json(axial_vol));
-  fits.set("minus_sxx", line_json(lateral_vol));
-  fits.set("minus_szz", line_json(zz_vol));
-  j.set("line_fits", fits);
+  fits["punch_stress"] = line_json(punch);
+  fits["wall_stress"] = line_json(wall);
+  fits["minus_syy"] = line_json(axial_vol);
+  fits["minus_sxx"] = line_json(lateral_vol);
+  fits["minus_szz"] = line_json(zz_vol);
+  j["line_fits"] = fits;
   return j;
 }
 

@@ -3,7 +3,7 @@
 // e_xx = 0, plane strain fixes e_zz = 0, the punch gives e_yy = e. For an isotropic elastic solid
 //   sigma_yy = M e,  M = K + 4G/3 ;  sigma_xx = sigma_zz = lambda e,  lambda = K - 2G/3,
 // so G = (M - lambda)/2, K = (M + lambda_x + lambda_z)/3, E = 9KG/(3K + G), nu = (3K - 2G)/(2(3K + G)).
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "analysis/least_squares.hpp"
 #include "analysis/stress_strain_curve.hpp"
 

@@ -27,9 +27,9 @@ EnsembleStat ensemble_stat(const std::vector<double>& values) {
 
 Json EnsembleStat::to_json() const {
   Json j = Json::object();
-  j.set("mean", mean);
-  j.set("std", std);
-  j.set("n", n);
+  j["mean"] = mean;
+  j["std"] = std;
+  j["n"] = n;
   return j;
 }
 

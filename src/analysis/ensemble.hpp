@@ -2,7 +2,7 @@
 // Statistics over a microstructure ensemble (several seeds of one condition).
 #include <vector>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 
 namespace pbx {
 

@@ -48,27 +48,27 @@ FitParameter& FitResult::operator[](const std::string& name) {
 
 Json FitResult::to_json() const {
   Json j = Json::object();
-  j.set("model", model);
-  j.set("method", method);
+  j["model"] = model;
+  j["method"] = method;
   Json ps = Json::object();
   for (const auto& p : params) {
     Json q = Json::object();
-    q.set("value", p.value);
-    q.set("unit", p.unit);
-    q.set("std_error", p.std_error);
-    q.set("ci_low", p.ci_low);
-    q.set("ci_high", p.ci_high);
-    ps.set(p.name, q);
+    q["value"] = p.value;
+    q["unit"] = p.unit;
+    q["std_error"] = p.std_error;
+    q["ci_low"] = p.ci_low;
+    q["ci_high"] = p.ci_high;
+    ps[p.name] = q;
   }
-  j.set("parameters", ps);
-  j.set("confidence", confidence);
-  j.set("n", n);
-  j.set("dof", dof);
-  j.set("sse", sse);
-  j.set("rmse", rmse);
-  j.set("r2", r2);
-  j.set("converged", converged);
-  if (!note.empty()) j.set("note", note);
+  j["parameters"] = ps;
+  j["confidence"] = confidence;
+  j["n"] = n;
+  j["dof"] = dof;
+  j["sse"] = sse;
+  j["rmse"] = rmse;
+  j["r2"] = r2;
+  j["converged"] = converged;
+  if (!note.empty()) j["note"] = note;
   return j;
 }
 

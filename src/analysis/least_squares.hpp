@@ -9,7 +9,7 @@
 
 #include <Eigen/Dense>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 
 namespace pbx {
 

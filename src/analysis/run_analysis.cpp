@@ -21,15 +21,15 @@ namespace {
 
 double number_or(const Json* j, const std::string& key, double def) {
   if (!j) return def;
-  const Json* v = j->find(key);
-  return v && v->is_number() ? v->as_number() : def;
+  const Json* v = json_find(*j, key);
+  return v && v->is_number() ? json_number(*v) : def;
 }
 
 Json discrepancy_json(const CurveDiscrepancy& d) {
   Json j = Json::object();
-  j.set("rms_relative", d.rms_relative);
-  j.set("max_relative", d.max_relative);
-  j.set("points", d.points);
+  j["rms_relative"] = d.rms_relative;
+  j["max_relative"] = d.max_relative;
+  j["points"] = d.points;
   return j;
 }
 
@@ -42,16 +42,16 @@ Json thinned_curve(const StressStrainCurve& c, int target) {
     std::vector<double> out;
     out.reserve(keep.size());
     for (auto i : keep) out.push_back(v[i]);
-    return Json::numbers(out);
+    return json_numbers(out);
   };
   Json j = Json::object();
-  j.set("strain", pick(c.strain));
-  j.set("punch_stress_Pa", pick(c.punch_stress));
-  j.set("minus_syy_Pa", pick(c.vol_axial));
-  j.set("wall_stress_Pa", pick(c.wall_stress));
-  j.set("minus_sxx_Pa", pick(c.vol_lateral));
-  j.set("minus_szz_Pa", pick(c.vol_out_of_plane));
-  j.set("ke_ie", pick(c.ke_ie));
+  j["strain"] = pick(c.strain);
+  j["punch_stress_Pa"] = pick(c.punch_stress);
+  j["minus_syy_Pa"] = pick(c.vol_axial);
+  j["wall_stress_Pa"] = pick(c.wall_stress);
+  j["minus_sxx_Pa"] = pick(c.vol_lateral);
+  j["minus_szz_Pa"] = pick(c.vol_out_of_plane);
+  j["ke_ie"] = pick(c.ke_ie);
   return j;
 }
 
@@ -73,17 +73,17 @@ Json interpenetration_json(const StressStrainCurve& c, double width, double heig
     if (c.strain[i] <= window_hi) iw = i;
   const std::size_t ie = c.size() - 1;
   const double share_end = share_at(ie), share_window = share_at(iw);
-  j.set("overlap_start_m2_per_m", a0);
-  j.set("overlap_end_m2_per_m", c.field_overlap[ie]);
-  j.set("at_strain", c.strain[ie]);
-  j.set("growth_fraction_of_box", (c.field_overlap[ie] - a0) / box);
-  j.set("share_of_compaction", std::isfinite(share_end) ? Json(share_end) : Json());
-  j.set("share_of_compaction_at_window_end", std::isfinite(share_window) ? Json(share_window) : Json());
-  j.set("window_end_strain", c.strain[iw]);
-  j.set("limit", opt.overlap_limit);
+  j["overlap_start_m2_per_m"] = a0;
+  j["overlap_end_m2_per_m"] = c.field_overlap[ie];
+  j["at_strain"] = c.strain[ie];
+  j["growth_fraction_of_box"] = (c.field_overlap[ie] - a0) / box;
+  j["share_of_compaction"] = std::isfinite(share_end) ? Json(share_end) : Json();
+  j["share_of_compaction_at_window_end"] = std::isfinite(share_window) ? Json(share_window) : Json();
+  j["window_end_strain"] = c.strain[iw];
+  j["limit"] = opt.overlap_limit;
   const double worst = std::fmax(share_end, share_window);  // fmax ignores a NaN side
   const bool flagged = std::isfinite(worst) && worst > opt.overlap_limit;
-  j.set("flagged", flagged);
+  j["flagged"] = flagged;
   if (flagged) {
     warnings.push_back(fmt::format("grains pass into each other: the overlap of different fields' particle domains "
                                    "takes {:.3g} % of the compaction at the end of the linear window and {:.3g} % "
@@ -112,13 +112,13 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
   }
   if (!std::isfinite(worst)) return Json();
   Json j = Json::object();
-  j.set("max_ratio", worst);
-  j.set("at_strain", at);
-  j.set("ratio_at_window_end", std::isfinite(at_window) ? Json(at_window) : Json());
-  j.set("ratio_at_end", at_end);
-  j.set("limit", 1.0 + opt.energy_gain_limit);
+  j["max_ratio"] = worst;
+  j["at_strain"] = at;
+  j["ratio_at_window_end"] = std::isfinite(at_window) ? Json(at_window) : Json();
+  j["ratio_at_end"] = at_end;
+  j["limit"] = 1.0 + opt.energy_gain_limit;
   const bool flagged = worst > 1.0 + opt.energy_gain_limit;
-  j.set("flagged", flagged);
+  j["flagged"] = flagged;
   if (flagged) {
     warnings.push_back(fmt::format("energy not conserved: kinetic energy plus stress work reach {:.3g} x the punch "
                                    "work at strain {:.4g} (limit {:.3g}): the discretisation adds energy (a local "
@@ -198,17 +198,17 @@ void AnalysisOptions::validate() const {
 
 Json AnalysisOptions::to_json() const {
   Json j = Json::object();
-  j.set("linear_window", window_lo ? Json::numbers({*window_lo, *window_hi}) : Json("automatic"));
-  j.set("window_signal", window_signal);
-  j.set("window_tolerance", window_tolerance);
-  j.set("window_min_points", window_min_points);
-  j.set("window_max_strain", window_max_strain);
-  j.set("strength_max_strain", strength_max_strain);
-  j.set("strength_plateau_from", strength_plateau_from);
-  j.set("plateau_window", plateau_lo ? Json::numbers({*plateau_lo, *plateau_hi}) : Json("automatic"));
-  j.set("ke_ie_limit", ke_ie_limit);
-  j.set("overlap_limit", overlap_limit);
-  j.set("energy_gain_limit", energy_gain_limit);
+  j["linear_window"] = window_lo ? json_numbers({*window_lo, *window_hi}) : Json("automatic");
+  j["window_signal"] = window_signal;
+  j["window_tolerance"] = window_tolerance;
+  j["window_min_points"] = window_min_points;
+  j["window_max_strain"] = window_max_strain;
+  j["strength_max_strain"] = strength_max_strain;
+  j["strength_plateau_from"] = strength_plateau_from;
+  j["plateau_window"] = plateau_lo ? json_numbers({*plateau_lo, *plateau_hi}) : Json("automatic");
+  j["ke_ie_limit"] = ke_ie_limit;
+  j["overlap_limit"] = overlap_limit;
+  j["energy_gain_limit"] = energy_gain_limit;
   return j;
 }
 
@@ -221,16 +221,16 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   const fs::path run_json = dir / "run.json", history = dir / "history.csv";
   if (!fs::exists(run_json)) throw InputError(fmt::format("{}: missing (written by 'pbxmpm run')", run_json.string()));
   if (!fs::exists(history)) throw InputError(fmt::format("{}: missing (written by 'pbxmpm run')", history.string()));
-  const Json run = Json::read_file(run_json.string());
-  const Json* status = run.find("status");
-  const std::string st = status && status->is_string() ? status->as_string() : "unknown";
+  const Json run = json_read_file(run_json.string());
+  const Json* status = json_find(run, "status");
+  const std::string st = status && status->is_string() ? json_string(*status) : "unknown";
   if (st != "finished" && !opt.allow_unfinished) {
     throw InputError(fmt::format("{}: status is '{}', not 'finished' (use --allow-unfinished to analyse anyway)",
                                  run_json.string(), st));
   }
   std::vector<std::string> warnings;
   const double ramp = number_or(&run, "ramp_strain", 0.0);
-  if (!run.find("ramp_strain")) warnings.push_back("run.json has no ramp_strain; the fits start at strain 0");
+  if (!json_find(run, "ramp_strain")) warnings.push_back("run.json has no ramp_strain; the fits start at strain 0");
 
   const StressStrainCurve c = StressStrainCurve::from_history(history.string());
   if (c.size() < 3) throw InputError(fmt::format("{}: only {} rows", history.string(), c.size()));
@@ -284,33 +284,33 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   }
 
   Json j = Json::object();
-  j.set("format", "pbxmpm-analysis-1");
-  j.set("run_dir", fs::absolute(dir).lexically_normal().string());
-  j.set("status", st);
+  j["format"] = "pbxmpm-analysis-1";
+  j["run_dir"] = fs::absolute(dir).lexically_normal().string();
+  j["status"] = st;
   for (const char* key : {"code_version", "temperature_K", "ramp_strain", "mass_scaling", "specimen", "study"}) {
-    if (const Json* v = run.find(key)) j.set(key, *v);
+    if (const Json* v = json_find(run, key)) j[key] = *v;
   }
   // the deck's run title: a calibrated study says so there, and the report prints it
-  if (const Json* deck = run.find("deck"))
-    if (const Json* rt = deck->find("run"))
-      if (const Json* title = rt->find("title"); title && title->is_string()) j.set("title", *title);
-  const Json* spec = run.find("specimen");
-  j.set("density_kg_m3", number_or(spec, "density_kg_m3", std::nan("")));
-  j.set("porosity", number_or(spec, "porosity", std::nan("")));
-  j.set("options", opt.to_json());
+  if (const Json* deck = json_find(run, "deck"))
+    if (const Json* rt = json_find(*deck, "run"))
+      if (const Json* title = json_find(*rt, "title"); title && title->is_string()) j["title"] = *title;
+  const Json* spec = json_find(run, "specimen");
+  j["density_kg_m3"] = number_or(spec, "density_kg_m3", std::nan(""));
+  j["porosity"] = number_or(spec, "porosity", std::nan(""));
+  j["options"] = opt.to_json();
 
   Json win = Json::object();
-  win.set("lo", w.lo);
-  win.set("hi", w.hi);
-  win.set("points", w.points);
-  win.set("automatic", w.automatic);
-  win.set("signal", w.automatic ? opt.window_signal : std::string("by hand"));
-  win.set("start_after_ke_ie_settled", std::isfinite(settled_start));
-  j.set("linear_window", win);
-  j.set("moduli", mod.to_json());
-  j.set("moduli_volume_average", mod_vol.to_json());
-  j.set("strength", s_punch.to_json());
-  j.set("strength_volume_average", s_vol.to_json());
+  win["lo"] = w.lo;
+  win["hi"] = w.hi;
+  win["points"] = w.points;
+  win["automatic"] = w.automatic;
+  win["signal"] = w.automatic ? opt.window_signal : std::string("by hand");
+  win["start_after_ke_ie_settled"] = std::isfinite(settled_start);
+  j["linear_window"] = win;
+  j["moduli"] = mod.to_json();
+  j["moduli_volume_average"] = mod_vol.to_json();
+  j["strength"] = s_punch.to_json();
+  j["strength_volume_average"] = s_vol.to_json();
 
   // The paper's Fig. 7: every density reaches 42.3 MPa at 99 % of the theoretical density. The die's
   // walls do not move, so the box density is rho0 / (1 - strain) and 99 % TMD is reached at strain
@@ -319,7 +319,7 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     constexpr double kFraction = 0.99;
     Json comp = Json::object();
     const double rho0 = number_or(spec, "density_kg_m3", std::nan("")), tmd = number_or(spec, "tmd_kg_m3", std::nan(""));
-    comp.set("tmd_fraction", kFraction);
+    comp["tmd_fraction"] = kFraction;
     const double e99 = 1.0 - rho0 / (kFraction * tmd);
     Json value;
     std::string note;
@@ -334,19 +334,19 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
         }
       if (value.is_null()) note = fmt::format("the run ends at strain {:.4g}, before 99 % TMD at strain {:.4g}", c.strain.back(), e99);
     }
-    comp.set("strain", std::isfinite(e99) ? Json(e99) : Json());
-    comp.set("punch_stress_Pa", value);
-    if (!note.empty()) comp.set("note", note);
-    j.set("stress_at_99_tmd", comp);
+    comp["strain"] = std::isfinite(e99) ? Json(e99) : Json();
+    comp["punch_stress_Pa"] = value;
+    if (!note.empty()) comp["note"] = note;
+    j["stress_at_99_tmd"] = comp;
   }
 
   Json agree = Json::object();
-  agree.set("punch_vs_minus_syy", discrepancy_json(curve_discrepancy(c.strain, c.punch_stress, c.vol_axial, ramp)));
-  agree.set("wall_vs_minus_sxx", discrepancy_json(curve_discrepancy(c.strain, c.wall_stress, c.vol_lateral, ramp)));
-  agree.set("M_relative_difference", (mod.axial_vol.slope - mod.M) / mod.M);
-  agree.set("lambda_relative_difference", (mod.lateral_vol.slope - mod.lambda) / mod.lambda);
-  agree.set("strength_relative_difference", (s_vol.strength - s_punch.strength) / s_punch.strength);
-  j.set("agreement", agree);
+  agree["punch_vs_minus_syy"] = discrepancy_json(curve_discrepancy(c.strain, c.punch_stress, c.vol_axial, ramp));
+  agree["wall_vs_minus_sxx"] = discrepancy_json(curve_discrepancy(c.strain, c.wall_stress, c.vol_lateral, ramp));
+  agree["M_relative_difference"] = (mod.axial_vol.slope - mod.M) / mod.M;
+  agree["lambda_relative_difference"] = (mod.lateral_vol.slope - mod.lambda) / mod.lambda;
+  agree["strength_relative_difference"] = (s_vol.strength - s_punch.strength) / s_punch.strength;
+  j["agreement"] = agree;
   const CurveDiscrepancy axial = curve_discrepancy(c.strain, c.punch_stress, c.vol_axial, ramp);
   if (axial.rms_relative > 0.05) {
     warnings.push_back(fmt::format("punch stress and volume-averaged -syy differ by {:.3g} % rms (of the maximum): "
@@ -368,29 +368,29 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     if (c.ke_ie[i] > opt.ke_ie_limit) ++above;
   }
   Json qs = Json::object();
-  qs.set("ke_ie_max_after_ramp", n_ramp ? Json(ke_ramp) : Json());
-  qs.set("ke_ie_max_from_window_start", n_after ? Json(ke_max) : Json());
-  qs.set("fraction_above_limit", n_after ? Json(double(above) / n_after) : Json());
-  qs.set("limit", opt.ke_ie_limit);
-  qs.set("flagged", ke_max > opt.ke_ie_limit);
-  j.set("quasi_static", qs);
+  qs["ke_ie_max_after_ramp"] = n_ramp ? Json(ke_ramp) : Json();
+  qs["ke_ie_max_from_window_start"] = n_after ? Json(ke_max) : Json();
+  qs["fraction_above_limit"] = n_after ? Json(double(above) / n_after) : Json();
+  qs["limit"] = opt.ke_ie_limit;
+  qs["flagged"] = ke_max > opt.ke_ie_limit;
+  j["quasi_static"] = qs;
   if (ke_max > opt.ke_ie_limit) {
     warnings.push_back(fmt::format("not quasi-static: KE/IE reaches {:.3g} after the start of the linear window at "
                                    "strain {:.4g} (limit {:.3g})", ke_max, w.lo, opt.ke_ie_limit));
   }
-  j.set("energy_balance", energy_balance_json(c, std::max(w.lo, ramp), w.hi, opt, warnings));
-  j.set("interpenetration", interpenetration_json(c, number_or(spec, "width_m", std::nan("")),
-                                                  number_or(spec, "height_m", std::nan("")), w.hi, opt, warnings));
+  j["energy_balance"] = energy_balance_json(c, std::max(w.lo, ramp), w.hi, opt, warnings);
+  j["interpenetration"] = interpenetration_json(c, number_or(spec, "width_m", std::nan("")),
+                                                  number_or(spec, "height_m", std::nan("")), w.hi, opt, warnings);
   Json warn = Json::array();
-  for (auto& s : warnings) warn.push(s);
-  j.set("warnings", warn);
-  j.set("curve", thinned_curve(c, opt.curve_points));
+  for (auto& s : warnings) warn.push_back(s);
+  j["warnings"] = warn;
+  j["curve"] = thinned_curve(c, opt.curve_points);
   return j;
 }
 
 Json analyze_run_to_file(const std::string& run_dir, const AnalysisOptions& opt) {
   Json j = analyze_run(run_dir, opt);
-  j.write_file((fs::path(run_dir) / "analysis.json").string());
+  json_write_file((fs::path(run_dir) / "analysis.json").string(), j);
   return j;
 }
 

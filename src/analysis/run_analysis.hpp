@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 
 namespace pbx {
 

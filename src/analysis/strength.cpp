@@ -82,19 +82,19 @@ Strength strength_and_yield(const std::vector<double>& strain, const std::vector
 
 Json Strength::to_json() const {
   Json j = Json::object();
-  j.set("strength_Pa", strength);
-  j.set("strength_definition", fmt::format("mean stress over strain [{:.4g}, {:.4g}] (the plateau level)", plateau_from, window_end));
-  j.set("peak_strength_Pa", peak);
-  j.set("strain_at_peak", strain_at_peak);
-  j.set("end_stress_Pa", end_stress);
-  j.set("strength_window_end_strain", window_end);
-  j.set("still_rising", still_rising);
-  j.set("yield_stress_Pa", yield_stress ? Json(*yield_stress) : Json());
-  j.set("yield_strain", yield_strain ? Json(*yield_strain) : Json());
-  j.set("plateau_window", Json::numbers({plateau_lo, plateau_hi}));
-  j.set("plateau_slope_Pa", plateau.n ? Json(plateau.slope) : Json());
-  j.set("plateau_intercept_Pa", plateau.n ? Json(plateau.intercept) : Json());
-  if (!note.empty()) j.set("note", note);
+  j["strength_Pa"] = strength;
+  j["strength_definition"] = fmt::format("mean stress over strain [{:.4g}, {:.4g}] (the plateau level)", plateau_from, window_end);
+  j["peak_strength_Pa"] = peak;
+  j["strain_at_peak"] = strain_at_peak;
+  j["end_stress_Pa"] = end_stress;
+  j["strength_window_end_strain"] = window_end;
+  j["still_rising"] = still_rising;
+  j["yield_stress_Pa"] = yield_stress ? Json(*yield_stress) : Json();
+  j["yield_strain"] = yield_strain ? Json(*yield_strain) : Json();
+  j["plateau_window"] = json_numbers({plateau_lo, plateau_hi});
+  j["plateau_slope_Pa"] = plateau.n ? Json(plateau.slope) : Json();
+  j["plateau_intercept_Pa"] = plateau.n ? Json(plateau.intercept) : Json();
+  if (!note.empty()) j["note"] = note;
   return j;
 }
 

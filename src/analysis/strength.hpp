@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "analysis/least_squares.hpp"
 
 namespace pbx {

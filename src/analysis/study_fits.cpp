@@ -25,15 +25,15 @@ namespace {
 double num(const Json& j, std::initializer_list<const char*> path) {
   const Json* p = &j;
   for (const char* k : path) {
-    p = p->find(k);
+    p = json_find(*p, k);
     if (!p) return std::nan("");
   }
-  return p->is_number() ? p->as_number() : std::nan("");
+  return p->is_number() ? json_number(*p) : std::nan("");
 }
 
 std::string str(const Json& j, const char* key, const std::string& def = "") {
-  const Json* p = j.find(key);
-  return p && p->is_string() ? p->as_string() : def;
+  const Json* p = json_find(j, key);
+  return p && p->is_string() ? json_string(*p) : def;
 }
 
 // Run temperature: study entry, else analysis (run.json) value.
@@ -51,7 +51,7 @@ double density_of(const StudyRun& r) {
 std::string group_of(const StudyRun& r) {
   std::string g = str(r.entry, "group");
   if (g.empty()) {
-    if (const Json* s = r.analysis.find("study")) g = str(*s, "group");
+    if (const Json* s = json_find(r.analysis, "study")) g = str(*s, "group");
   }
   return g;
 }
@@ -89,10 +89,10 @@ const Quantity kQuantities[] = {
 
 Json hs_json(const HashinShtrikmanBounds& b) {
   Json j = Json::object();
-  j.set("K_lower_Pa", b.K_lower);
-  j.set("K_upper_Pa", b.K_upper);
-  j.set("G_lower_Pa", b.G_lower);
-  j.set("G_upper_Pa", b.G_upper);
+  j["K_lower_Pa"] = b.K_lower;
+  j["K_upper_Pa"] = b.K_upper;
+  j["G_lower_Pa"] = b.G_lower;
+  j["G_upper_Pa"] = b.G_upper;
   return j;
 }
 
@@ -134,15 +134,15 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
     throw InputError(fmt::format("{}: missing; a study directory holds study.json and runs/<id>/ (made by 'pbxmpm study')",
                                  sj.string()));
   }
-  const Json study = Json::read_file(sj.string());
-  const Json* runs = study.find("runs");
-  if (!runs || !runs->is_array() || runs->as_array().empty()) {
+  const Json study = json_read_file(sj.string());
+  const Json* runs = json_find(study, "runs");
+  if (!runs || !runs->is_array() || json_array(*runs).empty()) {
     throw InputError(fmt::format("{}: no \"runs\" array (or it is empty)", sj.string()));
   }
   std::vector<std::string> missing;
   std::vector<MissingRun> left_out;
   std::vector<StudyRun> out;
-  for (const auto& e : runs->as_array()) {
+  for (const auto& e : json_array(*runs)) {
     StudyRun r;
     r.entry = e;
     r.id = str(e, "id");
@@ -164,7 +164,7 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
       }
     }
     if (ok) {
-      const Json rj = Json::read_file((rd / "run.json").string());
+      const Json rj = json_read_file((rd / "run.json").string());
       const std::string st = str(rj, "status", "unknown");
       if (st != "finished" && !opt.analysis.allow_unfinished) {
         missing.push_back(fmt::format("{}/run.json: status '{}', not 'finished'", rel, st));
@@ -187,7 +187,7 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
                                              : "\n(--partial reports the finished runs alone)"));
   }
   for (auto& r : out) {
-    r.analysis = opt.reuse_analysis ? Json::read_file((fs::path(r.dir) / "analysis.json").string())
+    r.analysis = opt.reuse_analysis ? json_read_file((fs::path(r.dir) / "analysis.json").string())
                                     : analyze_run_to_file(r.dir, opt.analysis);
   }
   return out;
@@ -197,9 +197,9 @@ Json missing_runs_json(const std::vector<MissingRun>& missing) {
   Json a = Json::array();
   for (const auto& m : missing) {
     Json e = Json::object();
-    e.set("id", m.id);
-    e.set("why", m.why);
-    a.push(std::move(e));
+    e["id"] = m.id;
+    e["why"] = m.why;
+    a.push_back(std::move(e));
   }
   return a;
 }
@@ -207,7 +207,7 @@ Json missing_runs_json(const std::vector<MissingRun>& missing) {
 Json paper_table3_refit(const std::string& path, double confidence) {
   Json j = Json::object();
   if (!fs::exists(path)) {
-    j.set("note", fmt::format("paper values file '{}' not found; refit skipped", path));
+    j["note"] = fmt::format("paper values file '{}' not found; refit skipped", path);
     return j;
   }
   toml::table t;
@@ -225,24 +225,24 @@ Json paper_table3_refit(const std::string& path, double confidence) {
   }
   const double T0 = t["fits"]["temperature"]["T0_K"].value<double>().value_or(293.0);
   if (T.size() < 2 || T.size() != s.size()) {
-    j.set("note", fmt::format("{}: [table3] T_K / strength_MPa missing or of different lengths", path));
+    j["note"] = fmt::format("{}: [table3] T_K / strength_MPa missing or of different lengths", path);
     return j;
   }
-  j.set("source", "paper Table 3 (compression strength vs temperature)");
-  j.set("T_K", Json::numbers(T));
-  j.set("strength_Pa", Json::numbers(s));
-  j.set("T0_K", T0);
-  j.set("nonlinear", fit_temperature_law_nonlinear(T, s, T0, confidence).to_json());
-  j.set("loglinear", fit_temperature_law_loglinear(T, s, T0, confidence).to_json());
-  if (auto a = t["fits"]["temperature"]["alpha"].value<double>()) j.set("paper_alpha", *a);
-  if (auto s0 = t["fits"]["temperature"]["sigma0_MPa"].value<double>()) j.set("paper_sigma0_Pa", *s0 * 1e6);
+  j["source"] = "paper Table 3 (compression strength vs temperature)";
+  j["T_K"] = json_numbers(T);
+  j["strength_Pa"] = json_numbers(s);
+  j["T0_K"] = T0;
+  j["nonlinear"] = fit_temperature_law_nonlinear(T, s, T0, confidence).to_json();
+  j["loglinear"] = fit_temperature_law_loglinear(T, s, T0, confidence).to_json();
+  if (auto a = t["fits"]["temperature"]["alpha"].value<double>()) j["paper_alpha"] = *a;
+  if (auto s0 = t["fits"]["temperature"]["sigma0_MPa"].value<double>()) j["paper_sigma0_Pa"] = *s0 * 1e6;
   return j;
 }
 
 Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   Json out = Json::object();
-  out.set("format", "pbxmpm-fits-1");
-  out.set("confidence", opt.confidence);
+  out["format"] = "pbxmpm-fits-1";
+  out["confidence"] = opt.confidence;
 
   // Conditions: the seeds of one study value (study.json "group" and "value", as `pbxmpm study`
   // writes them) form one condition. Entries without a value (hand-made study.json files) group by
@@ -275,25 +275,25 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   Json cj = Json::array();
   for (const auto& c : conds) {
     Json e = Json::object();
-    e.set("group", c.group);
-    e.set("value", c.value);
-    e.set("temperature_K", c.T);
+    e["group"] = c.group;
+    e["value"] = c.value;
+    e["temperature_K"] = c.T;
     // the grouping key of conditions without a study value; with one, the seeds' densities differ
     // and their mean +- sd is stats.density_kg_m3
-    if (c.value.empty()) e.set("density_nominal_kg_m3", c.rho_nominal);
+    if (c.value.empty()) e["density_nominal_kg_m3"] = c.rho_nominal;
     Json ids = Json::array();
-    for (auto* r : c.runs) ids.push(r->id);
-    e.set("runs", ids);
+    for (auto* r : c.runs) ids.push_back(r->id);
+    e["runs"] = ids;
     Json stats = Json::object();
     for (const auto& q : kQuantities) {
       std::vector<double> v;
       for (auto* r : c.runs) v.push_back(num(r->analysis, q.path));
-      stats.set(q.name, ensemble_stat(v).to_json());
+      stats[q.name] = ensemble_stat(v).to_json();
     }
-    e.set("stats", stats);
-    cj.push(e);
+    e["stats"] = stats;
+    cj.push_back(e);
   }
-  out.set("conditions", cj);
+  out["conditions"] = cj;
 
   // Eq. 13 on the temperature group (all seeds as individual points).
   auto in_group = [&](const StudyRun& r, const char* g) {
@@ -310,49 +310,49 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     }
   }
   Json eq13 = Json::object();
-  eq13.set("T0_K", opt.T0_K);
-  eq13.set("T_K", Json::numbers(T));
-  eq13.set("strength_Pa", Json::numbers(sc));
+  eq13["T0_K"] = opt.T0_K;
+  eq13["T_K"] = json_numbers(T);
+  eq13["strength_Pa"] = json_numbers(sc);
   std::vector<double> distinct_T = T;
   std::sort(distinct_T.begin(), distinct_T.end());
   distinct_T.erase(std::unique(distinct_T.begin(), distinct_T.end(), [](double a, double b) { return std::fabs(a - b) < 0.5; }),
                    distinct_T.end());
   if (distinct_T.size() >= 2) {
-    eq13.set("nonlinear", fit_temperature_law_nonlinear(T, sc, opt.T0_K, opt.confidence).to_json());
-    eq13.set("loglinear", fit_temperature_law_loglinear(T, sc, opt.T0_K, opt.confidence).to_json());
+    eq13["nonlinear"] = fit_temperature_law_nonlinear(T, sc, opt.T0_K, opt.confidence).to_json();
+    eq13["loglinear"] = fit_temperature_law_loglinear(T, sc, opt.T0_K, opt.confidence).to_json();
   } else {
-    eq13.set("note", "fewer than 2 temperatures: Eq. 13 not fitted");
+    eq13["note"] = "fewer than 2 temperatures: Eq. 13 not fitted";
   }
-  out.set("eq13", eq13);
+  out["eq13"] = eq13;
 
   // Eq. 14 on the normalised curves at T0 (each run normalised by its own strength).
   std::vector<double> ep, sn;
   for (const auto& r : runs) {
     if (std::fabs(temperature_of(r) - opt.T0_K) > 0.5 || !in_group(r, "temperature")) continue;
     const double s = num(r.analysis, {"strength", "strength_Pa"});
-    const Json* curve = r.analysis.find("curve");
+    const Json* curve = json_find(r.analysis, "curve");
     if (!curve || !(s > 0)) continue;
-    const auto& e = curve->find("strain")->as_array();
-    const auto& p = curve->find("punch_stress_Pa")->as_array();
+    const auto& e = json_array(*json_find(*curve, "strain"));
+    const auto& p = json_array(*json_find(*curve, "punch_stress_Pa"));
     for (std::size_t i = 0; i < e.size(); ++i) {
       if (!e[i].is_number() || !p[i].is_number()) continue;
-      const double pct = 100.0 * e[i].as_number();
+      const double pct = 100.0 * json_number(e[i]);
       if (pct >= opt.eq14_lo_percent && pct <= opt.eq14_hi_percent) {
         ep.push_back(pct);
-        sn.push_back(p[i].as_number() / s);
+        sn.push_back(json_number(p[i]) / s);
       }
     }
   }
   Json eq14 = Json::object();
-  eq14.set("T_K", opt.T0_K);
-  eq14.set("window_percent", Json::numbers({opt.eq14_lo_percent, opt.eq14_hi_percent}));
-  eq14.set("points", int(ep.size()));
+  eq14["T_K"] = opt.T0_K;
+  eq14["window_percent"] = json_numbers({opt.eq14_lo_percent, opt.eq14_hi_percent});
+  eq14["points"] = int(ep.size());
   if (ep.size() >= 4) {
-    eq14.set("fit", fit_normalized_curve(ep, sn, opt.confidence).to_json());
+    eq14["fit"] = fit_normalized_curve(ep, sn, opt.confidence).to_json();
   } else {
-    eq14.set("note", fmt::format("{} points at T0 = {} K in the Eq. 14 window: not fitted", ep.size(), opt.T0_K));
+    eq14["note"] = fmt::format("{} points at T0 = {} K in the Eq. 14 window: not fitted", ep.size(), opt.T0_K);
   }
-  out.set("eq14", eq14);
+  out["eq14"] = eq14;
 
   // Eq. 19-22 on the density group.
   std::vector<double> rho, Gs, Ks;
@@ -374,12 +374,12 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   }
   const double rho0 = opt.rho0.value_or(std::isfinite(tmd) ? tmd : 1942.0);
   Json hsj = Json::object();
-  hsj.set("rho0_kg_m3", rho0);
-  hsj.set("GU_Pa", opt.GU);
-  hsj.set("KU_Pa", opt.KU);
-  hsj.set("density_kg_m3", Json::numbers(rho));
-  hsj.set("G_Pa", Json::numbers(Gs));
-  hsj.set("K_Pa", Json::numbers(Ks));
+  hsj["rho0_kg_m3"] = rho0;
+  hsj["GU_Pa"] = opt.GU;
+  hsj["KU_Pa"] = opt.KU;
+  hsj["density_kg_m3"] = json_numbers(rho);
+  hsj["G_Pa"] = json_numbers(Gs);
+  hsj["K_Pa"] = json_numbers(Ks);
   std::vector<double> distinct_rho = rho;
   std::sort(distinct_rho.begin(), distinct_rho.end());
   distinct_rho.erase(std::unique(distinct_rho.begin(), distinct_rho.end(), [](double a, double b) { return std::fabs(a - b) < 0.05; }),
@@ -387,19 +387,19 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   // Two densities must be two study conditions: the seeds of one porosity scatter by a few kg/m^3
   // (the packer's porosity tolerance), and a power law through that scatter is noise (n = -14).
   if (distinct_rho.size() >= 2 && conditions.size() >= 2) {
-    hsj.set("G", fit_density_law(rho, Gs, rho0, opt.GU, opt.confidence).to_json());
-    hsj.set("K", fit_density_law(rho, Ks, rho0, opt.KU, opt.confidence).to_json());
+    hsj["G"] = fit_density_law(rho, Gs, rho0, opt.GU, opt.confidence).to_json();
+    hsj["K"] = fit_density_law(rho, Ks, rho0, opt.KU, opt.confidence).to_json();
   } else {
-    hsj.set("note", "fewer than 2 density conditions: Eq. 19-22 not fitted");
+    hsj["note"] = "fewer than 2 density conditions: Eq. 19-22 not fitted";
   }
   // Bounds from the run's own phases (first run), and for the pore-free composite (compare G^U, K^U).
   if (!runs.empty()) {
     std::string source;
     std::vector<Phase> ph = phases_of(runs.front(), opt, source);
     Json b = Json::object();
-    b.set("phases_source", source);
-    b.set("run", runs.front().id);
-    b.set("with_pores", hs_json(hashin_shtrikman_bounds(ph)));
+    b["phases_source"] = source;
+    b["run"] = runs.front().id;
+    b["with_pores"] = hs_json(hashin_shtrikman_bounds(ph));
     std::vector<Phase> solid;
     double fs_sum = 0;
     for (const auto& p : ph) {
@@ -409,12 +409,11 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
       }
     }
     for (auto& p : solid) p.volume_fraction /= fs_sum;
-    b.set("pore_free", hs_json(hashin_shtrikman_bounds(solid)));
-    hsj.set("bounds", b);
+    b["pore_free"] = hs_json(hashin_shtrikman_bounds(solid));
+    hsj["bounds"] = b;
   }
-  out.set("density_law", hsj);
-  out.set("paper_table3_refit",
-          paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence));
+  out["density_law"] = hsj;
+  out["paper_table3_refit"] = paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence);
   return out;
 }
 

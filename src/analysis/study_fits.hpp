@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "analysis/hashin_shtrikman.hpp"
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "analysis/run_analysis.hpp"
 
 namespace pbx {

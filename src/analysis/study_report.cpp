@@ -28,10 +28,10 @@ std::string build_report(const std::string& study_dir, const ReportOptions& opt)
   std::vector<MissingRun> missing;
   const std::vector<StudyRun> runs = load_study(study_dir, opt.fits, &missing);
   Json fits = fit_study(runs, opt.fits);
-  if (!missing.empty()) fits.set("missing_runs", missing_runs_json(missing));
+  if (!missing.empty()) fits["missing_runs"] = missing_runs_json(missing);
   const fs::path out = opt.out_dir.empty() ? fs::path(study_dir) / "report" : fs::path(opt.out_dir);
   fs::create_directories(out);
-  fits.write_file((out / "fits.json").string());
+  json_write_file((out / "fits.json").string(), fits);
 
   const std::string script = opt.script.empty() ? report_file("make_report.py") : opt.script;
   if (!fs::exists(script)) throw InputError(fmt::format("report script '{}' not found", script));

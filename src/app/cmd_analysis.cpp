@@ -216,8 +216,8 @@ void register_analysis(CLI::App& app) {
     const Json j = analyze_run_to_file(aa->dir, analysis_options(*aa));
     auto n = [&](std::initializer_list<const char*> path) {
       const Json* p = &j;
-      for (auto k : path) p = p ? p->find(k) : nullptr;
-      return p && p->is_number() ? p->as_number() : std::nan("");
+      for (auto k : path) p = p ? json_find(*p, k) : nullptr;
+      return p && p->is_number() ? json_number(*p) : std::nan("");
     };
     fmt::print("linear window: strain {:.4g} .. {:.4g} ({} points)\n", n({"linear_window", "lo"}),
                n({"linear_window", "hi"}), n({"linear_window", "points"}));
@@ -232,7 +232,7 @@ void register_analysis(CLI::App& app) {
                n({"strength", "yield_stress_Pa"}) / 1e6, n({"strength", "yield_strain"}));
     fmt::print("punch vs volume-average stress: rms difference {:.3g} % of max\n",
                100 * n({"agreement", "punch_vs_minus_syy", "rms_relative"}));
-    for (const auto& w : j.find("warnings")->as_array()) fmt::print("warning: {}\n", w.as_string());
+    for (const auto& w : json_array(*json_find(j, "warnings"))) fmt::print("warning: {}\n", json_string(w));
     fmt::print("wrote {}/analysis.json\n", aa->dir);
   });
 
@@ -248,7 +248,7 @@ void register_analysis(CLI::App& app) {
   // One argument set per sub-command: CLI11 writes default values into the bound variables.
   auto write_out = [](const std::string& out, const Json& j) {
     if (out.empty()) return;
-    j.write_file(out);
+    json_write_file(out, j);
     fmt::print("wrote {}\n", out);
   };
 
@@ -271,8 +271,8 @@ void register_analysis(CLI::App& app) {
     print_fit(nl);
     print_fit(ll);
     Json j = Json::object();
-    j.set("nonlinear", nl.to_json());
-    j.set("loglinear", ll.to_json());
+    j["nonlinear"] = nl.to_json();
+    j["loglinear"] = ll.to_json();
     write_out(ta->out, j);
   });
 
@@ -320,8 +320,8 @@ void register_analysis(CLI::App& app) {
     fmt::print("normalised by sigma_c = {:.6g} Pa; window {} .. {} % strain\n", sc, lo, hi);
     print_fit(f);
     Json j = f.to_json();
-    j.set("sigma_c_Pa", sc);
-    j.set("window_percent", Json::numbers({lo, hi}));
+    j["sigma_c_Pa"] = sc;
+    j["window_percent"] = json_numbers({lo, hi});
     write_out(ca->out, j);
   });
 
@@ -347,13 +347,13 @@ void register_analysis(CLI::App& app) {
       const FitResult g = fit_density_law(rho, scaled_column(t, da->y, dim::pressure, "--G-col"), rho0, GU, da->confidence);
       fmt::print("G: ");
       print_fit(g);
-      j.set("G", g.to_json());
+      j["G"] = g.to_json();
     }
     if (t.has(da->y2)) {
       const FitResult k = fit_density_law(rho, scaled_column(t, da->y2, dim::pressure, "--K-col"), rho0, KU, da->confidence);
       fmt::print("K: ");
       print_fit(k);
-      j.set("K", k.to_json());
+      j["K"] = k.to_json();
     }
     if (!t.has(da->y) && !t.has(da->y2)) {
       throw InputError(fmt::format("{}: neither --G-col '{}' nor --K-col '{}' is a column", da->csv, da->y, da->y2));
@@ -375,9 +375,9 @@ void register_analysis(CLI::App& app) {
     o.analysis = analysis_options(with_study_options(*sa));
     std::vector<MissingRun> missing;
     Json j = fit_study(load_study(sa->dir, o, &missing), o);
-    if (!missing.empty()) j.set("missing_runs", missing_runs_json(missing));
+    if (!missing.empty()) j["missing_runs"] = missing_runs_json(missing);
     const std::string out = oa->out.empty() ? sa->dir + "/fits.json" : oa->out;
-    j.write_file(out);
+    json_write_file(out, j);
     fmt::print("wrote {}\n", out);
   });
 

@@ -117,7 +117,7 @@ void register_run(CLI::App& app) {
     opt.out_dir = args->out;
     opt.threads = args->threads;
     opt.progress = !args->quiet;
-    opt.deck_json = deck.to_json();
+    opt.deck = json_parse(deck.to_json(), "the deck as JSON");
     opt.deck_text = deck.text();
     opt.deck_name = deck_name;
     opt.checkpoint_every = args->checkpoint_every;

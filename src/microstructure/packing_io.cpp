@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/parse_number.hpp"
 #include "io/atomic_write.hpp"
+#include "io/json.hpp"
 #include "microstructure/packing.hpp"
 #include "microstructure/phase_map.hpp"
 #include "microstructure/png_image.hpp"
@@ -56,8 +57,6 @@ RgbImage picture(const Packing& p) {
   return img;
 }
 
-std::string json_number(double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : "null"; }
-
 }  // namespace
 
 void write_packing(const Packing& p, const std::string& dir) {
@@ -90,36 +89,37 @@ void write_packing(const Packing& p, const std::string& dir) {
     const double bin = 25e-6;
     std::vector<int> hist(static_cast<std::size_t>(std::floor(dmax / bin)) + 1, 0);
     for (const auto& g : p.grains) ++hist[static_cast<std::size_t>(std::floor(g.diameter / bin))];
-    std::string h;
-    for (std::size_t k = 0; k < hist.size(); ++k)
-      h += fmt::format("{}{{\"from_um\": {}, \"to_um\": {}, \"count\": {}}}", k ? ", " : "", k * 25, (k + 1) * 25,
-                       hist[k]);
-    std::ostringstream js;
-    js << "{\n";
-    js << fmt::format("  \"code_version\": \"pbxmpm {} ({})\",\n", PBXMPM_VERSION, PBXMPM_GIT);
-    js << fmt::format("  \"source\": \"{}\",\n  \"seed\": {},\n  \"periodic\": {},\n", p.source, p.seed,
-                      p.periodic ? "true" : "false");
-    js << fmt::format("  \"box_m\": [{}, {}],\n", json_number(p.box.x()), json_number(p.box.y()));
-    js << fmt::format("  \"picture\": \"packing.png: TATB tinted by contact colour, binder dark green, voids white; "
-                      "the black bar below the box is {:g} um long\",\n", kScaleBar * 1e6);
-    js << fmt::format("  \"porosity\": {},\n", json_number(s.porosity));
-    js << fmt::format("  \"density_kg_m3\": {},\n  \"tmd_kg_m3\": {},\n", json_number(s.density), json_number(s.tmd));
-    js << fmt::format("  \"tatb_density_kg_m3\": {},\n  \"binder_density_kg_m3\": {},\n",
-                      json_number(p.tatb_density), json_number(p.binder_density));
-    js << fmt::format("  \"tatb_area_fraction\": {},\n  \"binder_area_fraction\": {},\n",
-                      json_number(s.tatb_area_fraction), json_number(s.binder_area_fraction));
-    js << fmt::format("  \"tatb_mass_fraction\": {},\n  \"binder_mass_fraction\": {},\n",
-                      json_number(s.tatb_mass_fraction), json_number(1.0 - s.tatb_mass_fraction));
-    js << fmt::format("  \"grains\": {},\n  \"grains_coarse\": {},\n  \"grains_fine\": {},\n", p.grains.size(),
-                      s.grains_coarse, s.grains_fine);
-    js << fmt::format("  \"coat_min_m\": {},\n  \"coat_max_m\": {},\n", json_number(s.coat_min),
-                      json_number(s.coat_max));
-    js << fmt::format("  \"grains_shrunk\": {},\n  \"max_relative_shrink\": {},\n  \"attempt\": {},\n",
-                      p.grains_shrunk, json_number(p.max_shrink), p.attempt);
-    js << fmt::format("  \"colours\": {},\n  \"contact_gap_m\": {},\n", s.colours, json_number(p.contact_gap));
-    js << fmt::format("  \"diameter_histogram\": [{}]\n", h);
-    js << "}\n";
-    write_text_atomically(path("packing.json"), js.str());
+    Json h = Json::array();
+    for (std::size_t k = 0; k < hist.size(); ++k) h.push_back({{"from_um", k * 25}, {"to_um", (k + 1) * 25}, {"count", hist[k]}});
+    Json js;
+    js["code_version"] = fmt::format("pbxmpm {} ({})", PBXMPM_VERSION, PBXMPM_GIT);
+    js["source"] = p.source;
+    js["seed"] = p.seed;
+    js["periodic"] = p.periodic;
+    js["box_m"] = json_numbers({p.box.x(), p.box.y()});
+    js["picture"] = fmt::format("packing.png: TATB tinted by contact colour, binder dark green, voids white; "
+                                "the black bar below the box is {:g} um long", kScaleBar * 1e6);
+    js["porosity"] = s.porosity;
+    js["density_kg_m3"] = s.density;
+    js["tmd_kg_m3"] = s.tmd;
+    js["tatb_density_kg_m3"] = p.tatb_density;
+    js["binder_density_kg_m3"] = p.binder_density;
+    js["tatb_area_fraction"] = s.tatb_area_fraction;
+    js["binder_area_fraction"] = s.binder_area_fraction;
+    js["tatb_mass_fraction"] = s.tatb_mass_fraction;
+    js["binder_mass_fraction"] = 1.0 - s.tatb_mass_fraction;
+    js["grains"] = p.grains.size();
+    js["grains_coarse"] = s.grains_coarse;
+    js["grains_fine"] = s.grains_fine;
+    js["coat_min_m"] = s.coat_min;
+    js["coat_max_m"] = s.coat_max;
+    js["grains_shrunk"] = p.grains_shrunk;
+    js["max_relative_shrink"] = p.max_shrink;
+    js["attempt"] = p.attempt;
+    js["colours"] = s.colours;
+    js["contact_gap_m"] = p.contact_gap;
+    js["diameter_histogram"] = h;
+    json_write_file(path("packing.json"), js);
   }
   write_png(path("packing.png"), picture(p));
   if (p.image.nx > 0) {

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "io/atomic_write.hpp"
+#include "io/json.hpp"
 #include <omp.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -43,13 +44,10 @@ std::string new_run_id() {
 
 // The run_id a folder's run.json records, or "" (no run.json, or one written before 2026-12-04).
 std::string run_id_in(const std::filesystem::path& dir) {
-  std::ifstream in(dir / "run.json");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string key = "\"run_id\": \"";
-  const auto at = text.find(key);
-  if (at == std::string::npos) return "";
-  const auto end = text.find('"', at + key.size());
-  return end == std::string::npos ? "" : text.substr(at + key.size(), end - at - key.size());
+  if (!std::filesystem::exists(dir / "run.json")) return "";
+  const Json run = json_read_file((dir / "run.json").string());
+  const Json* id = json_find(run, "run_id");
+  return id && id->is_string() ? id->get<std::string>() : std::string();
 }
 
 // SIGINT/SIGTERM: the first asks the run to stop at its next history row (after a checkpoint),
@@ -343,71 +341,56 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
     mass += P.mass[p];
     vol += P.volume0[p];
   }
-  std::string specimen = "null";
+  Json specimen;  // null without a die
   if (sc_.die) {
     const double box = sc_.die->width * sc_.die->height;
-    // porosity and density of the particles; packing_porosity: of the packed geometry they rasterise
-    const std::string packed =
-        sc_.packing_stats ? fmt::format(R"(, "packing_porosity": {:.8g}, "colours": {})", sc_.packing_stats->porosity,
-                                        sc_.packing_stats->colours)
-                          : std::string();
-    specimen = fmt::format(R"({{"density_kg_m3": {:.8g}, "porosity": {:.8g}, "tmd_kg_m3": {:.8g}, "width_m": {:.8g}, "height_m": {:.8g}{}}})",
-                           mass / box, 1.0 - vol / box, mass / vol, sc_.die->width, sc_.die->height, packed);
+    specimen = {{"density_kg_m3", mass / box}, {"porosity", 1.0 - vol / box}, {"tmd_kg_m3", mass / vol},
+                {"width_m", sc_.die->width}, {"height_m", sc_.die->height}};
+    if (sc_.packing_stats) {  // the packed geometry's porosity, which the particles rasterise
+      specimen["packing_porosity"] = sc_.packing_stats->porosity;
+      specimen["colours"] = sc_.packing_stats->colours;
+    }
   }
-  std::string mats;
+  Json mats = Json::array();
   for (std::size_t m = 0; m < sc_.materials.size(); ++m)
-    mats += fmt::format(R"({}{{"name": "{}", "model": "{}", "density_kg_m3": {:.8g}, "particles": {}}})", m ? ", " : "",
-                        sc_.material_names[m], sc_.materials[m]->model(), sc_.materials[m]->density(),
-                        sc_.material_state[m].index.size());
-  std::string esc;
-  for (char c : message) {
-    if (c == '"' || c == '\\') esc += '\\';
-    if (c == '\n') { esc += "\\n"; continue; }
-    if (static_cast<unsigned char>(c) < 0x20) { esc += fmt::format("\\u{:04x}", static_cast<int>(c)); continue; }
-    esc += c;
-  }
-  write_text_atomically(std::filesystem::path(opt_.out_dir) / "run.json", fmt::format(
-      R"J({{
-  "status": "{}",
-  "message": "{}",
-  "run_id": "{}",
-  "code_version": "{} ({})",
-  "segment_code_versions": "{}",
-  "host": "{}",
-  "pid": {},
-  "dimension": {},
-  "threads": {},
-  "threads_chosen_by": "{}",
-  "particles": {},
-  "rigid_particles": {},
-  "grid_nodes": {},
-  "fields": {},
-  "steps": {},
-  "time_s": {:.10g},
-  "wall_time_s": {:.4f},
-  "restarts": {},
-  "particle_updates_per_s": {:.6g},
-  "peak_memory_MB": {:.1f},
-  "field_overlap_pixel_m": {},
-  "temperature_K": {},
-  "mass_scaling": {},
-  "ramp_strain": {},
-  "end_strain": {},
-  "specimen": {},
-  "study": {},
-  "materials": [{}],
-  "units": "SI; 2-D quantities are per metre of depth",
-  "deck": {}
-}}
-)J",
-      status, esc, run_id_, PBXMPM_VERSION, PBXMPM_GIT, this_and_earlier_versions(), host_name(), static_cast<long>(::getpid()), D, omp_get_max_threads(), threads_.chosen_by, P.size(),
-      [&] { std::size_t n = 0; for (auto& b : sc_.bodies) n += b.x.size(); return n; }(), sc_.grid.nodes(),
-      sc_.grid.fields, solver_.step_count(), solver_.time(), wall, restarts_,
-      wall > 0 ? static_cast<double>(P.size()) * steps / wall : 0.0, peak_memory_mb(),
-      overlap_ ? fmt::format("{:.6g}", overlap_->pixel()) : std::string("null"), sc_.control.temperature,
-      sc_.settings.mass_scaling, sc_.die ? sc_.die->ramp_strain : 0.0, sc_.control.end_strain, specimen,
-      opt_.study_json.empty() ? "null" : opt_.study_json, mats,
-      opt_.deck_json.empty() ? "null" : opt_.deck_json));
+    mats.push_back({{"name", sc_.material_names[m]}, {"model", sc_.materials[m]->model()},
+                    {"density_kg_m3", sc_.materials[m]->density()}, {"particles", sc_.material_state[m].index.size()}});
+  std::size_t rigid = 0;
+  for (auto& b : sc_.bodies) rigid += b.x.size();
+  // rounded where more digits would only be noise (wall clock, memory)
+  auto rounded = [](double x, double unit) { return std::round(x / unit) * unit; };
+  Json j;
+  j["status"] = status;
+  j["message"] = message;
+  j["run_id"] = run_id_;
+  j["code_version"] = fmt::format("{} ({})", PBXMPM_VERSION, PBXMPM_GIT);
+  j["segment_code_versions"] = this_and_earlier_versions();
+  j["host"] = host_name();
+  j["pid"] = static_cast<long>(::getpid());
+  j["dimension"] = D;
+  j["threads"] = omp_get_max_threads();
+  j["threads_chosen_by"] = threads_.chosen_by;
+  j["particles"] = P.size();
+  j["rigid_particles"] = rigid;
+  j["grid_nodes"] = sc_.grid.nodes();
+  j["fields"] = sc_.grid.fields;
+  j["steps"] = solver_.step_count();
+  j["time_s"] = solver_.time();
+  j["wall_time_s"] = rounded(wall, 1e-4);
+  j["restarts"] = restarts_;
+  j["particle_updates_per_s"] = wall > 0 ? rounded(static_cast<double>(P.size()) * steps / wall, 1.0) : 0.0;
+  j["peak_memory_MB"] = rounded(peak_memory_mb(), 0.1);
+  j["field_overlap_pixel_m"] = overlap_ ? Json(overlap_->pixel()) : Json();
+  j["temperature_K"] = sc_.control.temperature;
+  j["mass_scaling"] = sc_.settings.mass_scaling;
+  j["ramp_strain"] = sc_.die ? sc_.die->ramp_strain : 0.0;
+  j["end_strain"] = sc_.control.end_strain;
+  j["specimen"] = specimen;
+  j["study"] = opt_.study;
+  j["materials"] = mats;
+  j["units"] = "SI; 2-D quantities are per metre of depth";
+  j["deck"] = opt_.deck;
+  json_write_file((std::filesystem::path(opt_.out_dir) / "run.json").string(), j);
 }
 
 // The machine a run goes on (`pbxmpm status` tells a live run from an interrupted one by it and

@@ -11,6 +11,7 @@
 #include "contact/field_overlap.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
+#include "io/json.hpp"
 #include "io/output_lock.hpp"
 #include "io/snapshot.hpp"
 #include "solver/solver.hpp"
@@ -42,8 +43,8 @@ struct RunOptions {
   std::string out_dir;          // empty: write nothing (tests)
   int threads = 0;              // 0: chosen from the scene size (solver/thread_count.hpp)
   bool progress = true;
-  std::string deck_json;        // the validated deck (for run.json)
-  std::string study_json;       // {"group": ..., ...} when the run belongs to a study
+  Json deck;                    // the validated deck (for run.json)
+  Json study;                   // {"group": ..., ...} when the run belongs to a study; null otherwise
   std::string deck_text, deck_name;  // stored in checkpoints to rebuild the scene on restart
   int checkpoint_every = 0;     // write DIR/checkpoint.h5 every this many history rows (0 = never)
   // ... and at the first history row after this many wall seconds since the last one (0 = never):

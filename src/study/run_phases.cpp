@@ -15,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const Json& member(const Json& j, const std::string& key, const std::string& file) {
-  const Json* v = j.find(key);
+  const Json* v = json_find(j, key);
   if (!v) throw InputError(fmt::format("{}: no \"{}\"", file, key));
   return *v;
 }
@@ -34,16 +34,16 @@ Sym3 held_step_stress(const Material<3>& m, const Mat3& strain, double t_hold) {
 RunPhases run_phases(const StudyRun& run) {
   const fs::path dir(run.dir);
   const std::string rj_file = (dir / "run.json").string();
-  const Json rj = Json::read_file(rj_file);
+  const Json rj = json_read_file(rj_file);
   RunPhases out;
-  out.temperature_K = member(rj, "temperature_K", rj_file).as_number(rj_file + ": temperature_K");
+  out.temperature_K = json_number(member(rj, "temperature_K", rj_file), rj_file + ": temperature_K");
   const Json& spec = member(rj, "specimen", rj_file);
   if (!spec.is_object()) throw InputError(fmt::format("{}: \"specimen\" is null (the run has no die)", rj_file));
-  const double porosity = member(spec, "porosity", rj_file).as_number(rj_file + ": specimen.porosity");
+  const double porosity = json_number(member(spec, "porosity", rj_file), rj_file + ": specimen.porosity");
 
-  const Json* window = run.analysis.find("linear_window");
-  const double lo = window && window->find("lo") ? window->find("lo")->as_number("linear_window.lo") : NAN;
-  const double hi = window && window->find("hi") ? window->find("hi")->as_number("linear_window.hi") : NAN;
+  const Json* window = json_find(run.analysis, "linear_window");
+  const double lo = window && json_find(*window, "lo") ? json_number(*json_find(*window, "lo"), "linear_window.lo") : NAN;
+  const double hi = window && json_find(*window, "hi") ? json_number(*json_find(*window, "hi"), "linear_window.hi") : NAN;
   if (!(std::isfinite(lo) && std::isfinite(hi)))
     throw InputError(fmt::format("{}/analysis.json: no linear window (linear_window.lo/hi)", run.dir));
 
@@ -57,11 +57,11 @@ RunPhases run_phases(const StudyRun& run) {
   const DeckTable materials = deck.root().table("materials");
   const Json& mats = member(rj, "materials", rj_file);
   double particles = 0;
-  for (const Json& m : mats.as_array()) particles += member(m, "particles", rj_file).as_number(rj_file + ": materials.particles");
+  for (const Json& m : json_array(mats)) particles += json_number(member(m, "particles", rj_file), rj_file + ": materials.particles");
   if (!(particles > 0)) throw InputError(fmt::format("{}: the materials hold no particles", rj_file));
-  for (const Json& m : mats.as_array()) {
-    const std::string name = member(m, "name", rj_file).as_string(rj_file + ": materials.name");
-    const double n = member(m, "particles", rj_file).as_number();
+  for (const Json& m : json_array(mats)) {
+    const std::string name = json_string(member(m, "name", rj_file), rj_file + ": materials.name");
+    const double n = json_number(member(m, "particles", rj_file));
     const auto table = materials.optional_table(name);
     if (!table) throw InputError(fmt::format("{}: run.json names material '{}', which the deck does not hold", deck.name(), name));
     MaterialContext ctx;

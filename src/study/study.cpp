@@ -25,6 +25,7 @@
 #include "io/checkpoint.hpp"
 #include "io/output_lock.hpp"
 #include "io/deck.hpp"
+#include "io/json.hpp"
 #include "solver/runner.hpp"
 #include "study/run_phases.hpp"
 #include "study/study_status.hpp"
@@ -51,16 +52,6 @@ std::string node_text(const toml::node& n) {
   if (auto* f = n.as_floating_point()) return fmt::format("{}", f->get());  // shortest round-trip form
   n.visit([&](auto&& v) { ss << v; });
   return ss.str();
-}
-
-// JSON string literal of a text (quotes and backslashes escaped).
-std::string json_quote(const std::string& t) {
-  std::string out = "\"";
-  for (char c : t) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
 }
 
 std::string label_of(const std::string& value_text) {
@@ -137,11 +128,14 @@ bool seeds_its_specimen(const toml::table& deck) {
 }
 
 bool finished(const fs::path& dir) {
-  std::ifstream f(dir / "run.json");
-  if (!f) return false;
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str().find("\"status\": \"finished\"") != std::string::npos;
+  if (!fs::exists(dir / "run.json")) return false;
+  try {
+    const Json run = json_read_file((dir / "run.json").string());
+    const Json* st = json_find(run, "status");
+    return st && st->is_string() && *st == "finished";
+  } catch (const InputError&) {
+    return false;  // unreadable: not a finished run, it is run again
+  }
 }
 
 // The first line of a run's deck names the base deck's path, which may move with the study.
@@ -347,16 +341,11 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
 // [analysis] table beside the runs (so that a later `pbxmpm report DIR` analyses them the same way;
 // removed when the study deck no longer has one).
 static void write_study_files(const StudySpec& s, const fs::path& out) {
-  // names are quoted and escaped: a quote or backslash in a study or group name made invalid JSON
-  std::string json = "{\n  \"name\": " + json_quote(s.name) + ",\n  \"deck\": " + json_quote(s.deck) +
-                     ",\n  \"base\": " + json_quote(s.base_deck) + ",\n  \"runs\": [\n";
-  for (std::size_t i = 0; i < s.runs.size(); ++i) {
-    const auto& r = s.runs[i];
-    json += fmt::format("    {{\"id\": {}, \"dir\": {}, \"group\": {}, \"value\": {}, \"seed\": {}}}{}\n", json_quote(r.id),
-                        json_quote("runs/" + r.id), json_quote(r.group), json_quote(r.value_label), r.seed,
-                        i + 1 < s.runs.size() ? "," : "");
-  }
-  write_text_atomically(out / "study.json", json + "  ]\n}\n");
+  Json runs = Json::array();
+  for (const auto& r : s.runs)
+    runs.push_back({{"id", r.id}, {"dir", "runs/" + r.id}, {"group", r.group}, {"value", r.value_label}, {"seed", r.seed}});
+  json_write_file((out / "study.json").string(),
+                  Json{{"name", s.name}, {"deck", s.deck}, {"base", s.base_deck}, {"runs", runs}});
   if (s.analysis_text.empty())
     fs::remove(out / "analysis.toml");
   else
@@ -543,7 +532,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       ro.out_dir = dir.string();
       ro.threads = opt.threads;
       ro.progress = opt.progress;
-      ro.deck_json = deck.to_json();
+      ro.deck = json_parse(deck.to_json(), "the deck as JSON");
       ro.deck_text = text;
       ro.deck_name = (dir / "deck.toml").string();
       ro.checkpoint_every = opt.checkpoint_every;
@@ -553,9 +542,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       double mass = 0;
       for (double m : scene.particles.mass) mass += m;
       const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
-      ro.study_json = fmt::format(R"({{"study": {}, "id": {}, "group": {}, "value": {}, "temperature_K": {}, "density_g_cm3": {:.6g}, "seed": {}}})",
-                                  json_quote(s.name), json_quote(r.id), json_quote(r.group), json_quote(r.value_label), scene.control.temperature,
-                                  rho / 1000.0, r.seed);
+      ro.study = {{"study", s.name}, {"id", r.id}, {"group", r.group}, {"value", r.value_label},
+                  {"temperature_K", scene.control.temperature}, {"density_g_cm3", rho / 1000.0}, {"seed", r.seed}};
       // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
       // it, history columns of another code version) is set aside and the run starts over.
       bool resumed = false;

@@ -11,7 +11,7 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
 #include "solver/runner.hpp"
@@ -64,39 +64,39 @@ std::vector<RunStatus> study_status(const std::string& study_dir) {
   const fs::path dir(study_dir);
   if (!fs::exists(dir / "study.json"))
     throw InputError(fmt::format("{}: no study.json (a study directory is made by 'pbxmpm study')", study_dir));
-  const Json study = Json::read_file((dir / "study.json").string());
-  const Json* runs = study.find("runs");
+  const Json study = json_read_file((dir / "study.json").string());
+  const Json* runs = json_find(study, "runs");
   if (!runs || !runs->is_array()) throw InputError(fmt::format("{}/study.json: no \"runs\" array", study_dir));
   std::vector<RunStatus> out;
-  for (const auto& e : runs->as_array()) {
+  for (const auto& e : json_array(*runs)) {
     RunStatus r;
-    const Json* id = e.find("id");
+    const Json* id = json_find(e, "id");
     if (!id || !id->is_string()) throw InputError(fmt::format("{}/study.json: a run without \"id\"", study_dir));
-    r.id = id->as_string();
+    r.id = json_string(*id);
     const fs::path rd = dir / "runs" / r.id;
     r.state = "not started";
     if (fs::exists(rd / "run.json")) {
       try {
-        const Json rj = Json::read_file((rd / "run.json").string());
-        const Json* st = rj.find("status");
-        const std::string status = st && st->is_string() ? st->as_string() : "unknown";
+        const Json rj = json_read_file((rd / "run.json").string());
+        const Json* st = json_find(rj, "status");
+        const std::string status = st && st->is_string() ? json_string(*st) : "unknown";
         r.state = status == "finished" ? (fs::exists(rd / "analysis.json") ? "finished" : "finished, not analysed")
                   : status == "failed" ? "failed"
                                        : "started";
-        const Json* host = rj.find("host");
-        const Json* pid = rj.find("pid");
+        const Json* host = json_find(rj, "host");
+        const Json* pid = json_find(rj, "pid");
         if (r.state == "started" && host && host->is_string() && pid && pid->is_number()) {
-          if (host->as_string() == host_name()) {
-            const auto p = static_cast<pid_t>(pid->as_number());
+          if (json_string(*host) == host_name()) {
+            const auto p = static_cast<pid_t>(json_number(*pid));
             r.state = p > 0 && (::kill(p, 0) == 0 || errno == EPERM) ? "running" : "interrupted";
             if (r.state == "running") r.message = fmt::format("pid {}", p);
           } else {
-            r.message = "on " + host->as_string();
+            r.message = "on " + json_string(*host);
           }
         }
-        if (const Json* m = rj.find("message"); m && m->is_string()) r.message = m->as_string();
-        if (const Json* v = rj.find("code_version"); v && v->is_string()) r.code_version = v->as_string();
-        if (const Json* es = rj.find("end_strain"); es && es->is_number()) r.end_strain = es->as_number();
+        if (const Json* m = json_find(rj, "message"); m && m->is_string()) r.message = json_string(*m);
+        if (const Json* v = json_find(rj, "code_version"); v && v->is_string()) r.code_version = json_string(*v);
+        if (const Json* es = json_find(rj, "end_strain"); es && es->is_number()) r.end_strain = json_number(*es);
       } catch (const std::exception& ex) {
         r.state = "started";
         r.message = ex.what();
@@ -123,9 +123,9 @@ namespace {
 // The study deck study.json records (studies written before 2026-12-05 do not: a placeholder).
 std::string study_deck(const std::string& study_dir) {
   try {
-    const Json study = Json::read_file((fs::path(study_dir) / "study.json").string());
-    const Json* deck = study.find("deck");
-    if (deck && deck->is_string()) return deck->as_string();
+    const Json study = json_read_file((fs::path(study_dir) / "study.json").string());
+    const Json* deck = json_find(study, "deck");
+    if (deck && deck->is_string()) return json_string(*deck);
   } catch (const std::exception&) {
   }
   return "<study deck>";

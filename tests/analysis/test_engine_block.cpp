@@ -39,7 +39,7 @@ TEST(EngineBlock, HomogeneousElasticBlockInTheDieGivesBackKGE) {
                                       (out / "run").string());
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const Json a = analyze_run((out / "run").string(), AnalysisOptions{});
-  auto at = [&](const char* block, const char* key) { return a.find(block)->find(key)->as_number(); };
+  auto at = [&](const char* block, const char* key) { return json_number(*json_find(*a.find(block), key)); };
   const double K = 10.59e9, G = 11.5e9, E = 9 * K * G / (3 * K + G);
   // The reported moduli (punch M, wall lambda) and the volume-averaged ones give the input K, G, E
   // to < 1 % (measured: punch K +0.46 %, G +0.41 %, E +0.42 %; volume averages +0.58 %).

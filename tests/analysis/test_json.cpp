@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "core/error.hpp"
 
 using namespace pbx;
@@ -10,20 +10,20 @@ using namespace pbx;
 TEST(Json, RoundTripsNestedDocumentsAndNamesErrors) {
   const std::string text = R"({"status": "finished", "x": -1.5e-3, "a": [1, 2.5, null, true],
     "s": {"name": "t\u00e9st \"q\"", "seed": 7}})";
-  const Json j = Json::parse(text);
-  EXPECT_EQ(j.find("status")->as_string(), "finished");
-  EXPECT_DOUBLE_EQ(j.find("x")->as_number(), -1.5e-3);
-  EXPECT_TRUE(j.find("a")->as_array()[2].is_null());
-  EXPECT_EQ(j.find("s")->find("name")->as_string(), "t\xc3\xa9st \"q\"");
-  const Json back = Json::parse(j.dump());
-  EXPECT_EQ(back.dump(), j.dump());
-  EXPECT_EQ(Json(0.1).dump(), "0.1");
-  EXPECT_EQ(Json(std::nan("")).dump(), "null");
+  const Json j = json_parse(text);
+  EXPECT_EQ(json_string(*json_find(j, "status")), "finished");
+  EXPECT_DOUBLE_EQ(json_number(*json_find(j, "x")), -1.5e-3);
+  EXPECT_TRUE(json_array(*json_find(j, "a"))[2].is_null());
+  EXPECT_EQ(json_string(*json_find(*json_find(j, "s"), "name")), "t\xc3\xa9st \"q\"");
+  const Json back = json_parse(json_dump(j));
+  EXPECT_EQ(json_dump(back), json_dump(j));
+  EXPECT_EQ(json_dump(Json(0.1)), "0.1");
+  EXPECT_EQ(json_dump(Json(std::nan(""))), "null");
   try {
-    Json::parse("{\"a\": 1,\n \"b\": }", "run.json");
+    json_parse("{\"a\": 1,\n \"b\": }", "run.json");
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("run.json:2:"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(j.find("status")->as_number("run.json: status"), InputError);
+  EXPECT_THROW(json_number(*json_find(j, "status"), "run.json: status"), InputError);
 }

@@ -27,8 +27,8 @@ fs::path scratch(const std::string& name) {
 }
 double at(const Json& j, std::initializer_list<const char*> path) {
   const Json* p = &j;
-  for (auto k : path) p = p->find(k);
-  return p->as_number();
+  for (auto k : path) p = json_find(*p, k);
+  return json_number(*p);
 }
 std::string error_of(const std::function<void()>& f) {
   try {
@@ -61,7 +61,7 @@ TEST(RunAnalysis, HomogeneousElasticBlockGivesBackKGE) {
   EXPECT_NEAR(at(a, {"moduli", "nu"}), (3 * s.K - 2 * s.G) / (2 * (3 * s.K + s.G)), 1e-6);
   // A purely linear curve: the window runs to the end, no yield is found.
   EXPECT_NEAR(at(a, {"linear_window", "hi"}), 0.005, 1e-9);
-  EXPECT_TRUE(a.find("strength")->find("yield_stress_Pa")->is_null());
+  EXPECT_TRUE(json_find(*json_find(a, "strength"), "yield_stress_Pa")->is_null());
   fs::remove_all(dir);
 }
 
@@ -104,9 +104,9 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
     EXPECT_NEAR(at(a, {"strength", "strength_Pa"}) / 32.8e6, 1.0, 0.01);
   }
   // the deck's run title is carried over (a calibrated study says so there, and the report prints it)
-  EXPECT_EQ(a.find("title")->as_string(), "synthetic confined compression");
+  EXPECT_EQ(json_string(*json_find(a, "title")), "synthetic confined compression");
   // Not run far enough for 99 % TMD (1787 kg/m3 of 1942 needs 7.05 % strain): null and a note.
-  EXPECT_TRUE(a.find("stress_at_99_tmd")->find("punch_stress_Pa")->is_null());
+  EXPECT_TRUE(json_find(*json_find(a, "stress_at_99_tmd"), "punch_stress_Pa")->is_null());
   EXPECT_NEAR(at(a, {"stress_at_99_tmd", "strain"}), 1.0 - 1787.0 / (0.99 * 1942.0), 1e-12);
   // Yield: the two least-squares lines (punch stress over the linear window and over the plateau
   // window the analysis reports) fitted here from history.csv by hand and intersected: 1e-9
@@ -124,8 +124,8 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
       return std::pair<double, double>{m, (sy - m * sx) / n};
     };
     const auto [me, be] = line(lo, hi);
-    const auto& pw = a.find("strength")->find("plateau_window")->as_array();
-    const auto [mp, bp] = line(pw.at(0).as_number(), pw.at(1).as_number());
+    const auto& pw = json_array(*json_find(*json_find(a, "strength"), "plateau_window"));
+    const auto [mp, bp] = line(json_number(pw.at(0)), json_number(pw.at(1)));
     const double ey = (bp - be) / (me - mp);
     EXPECT_NEAR(at(a, {"strength", "yield_strain"}) / ey, 1.0, 1e-9);
     EXPECT_NEAR(at(a, {"strength", "yield_stress_Pa"}) / (be + me * ey), 1.0, 1e-9);
@@ -135,7 +135,7 @@ TEST(RunAnalysis, ElasticPlasticCurveWindowYieldStrengthAndChecks) {
   EXPECT_NEAR(at(a, {"agreement", "M_relative_difference"}), 0.01, 1e-6);
   EXPECT_NEAR(at(a, {"agreement", "punch_vs_minus_syy", "max_relative"}), 0.01, 1e-6);
   // KE/IE is 0.3 only inside the ramp: not flagged.
-  EXPECT_FALSE(a.find("quasi_static")->find("flagged")->as_bool());
+  EXPECT_FALSE(json_bool(*json_find(*json_find(a, "quasi_static"), "flagged")));
   EXPECT_NEAR(at(a, {"quasi_static", "ke_ie_max_after_ramp"}), 0.01, 1e-12);
   fs::remove_all(dir);
 }
@@ -155,12 +155,12 @@ TEST(RunAnalysis, KineticEnergyAboveTheLimitAfterTheRampIsFlagged) {
     AnalysisOptions by_hand;
     by_hand.window_lo = 0.001, by_hand.window_hi = 0.004;
     const Json h = analyze_run(dir.string(), by_hand);
-    const Json& q = *h.find("quasi_static");
-    EXPECT_EQ(q.find("flagged")->as_bool(), bump > 0.05) << bump;
-    EXPECT_NEAR(q.find("ke_ie_max_after_ramp")->as_number(), bump, 1e-12);
-    EXPECT_NEAR(q.find("ke_ie_max_from_window_start")->as_number(), bump, 1e-12);
+    const Json& q = *json_find(h, "quasi_static");
+    EXPECT_EQ(json_bool(*json_find(q, "flagged")), bump > 0.05) << bump;
+    EXPECT_NEAR(json_number(*json_find(q, "ke_ie_max_after_ramp")), bump, 1e-12);
+    EXPECT_NEAR(json_number(*json_find(q, "ke_ie_max_from_window_start")), bump, 1e-12);
     if (bump > 0.05) {
-      const double share = q.find("fraction_above_limit")->as_number();  // 10 of the 770 points from 0.1 %
+      const double share = json_number(*json_find(q, "fraction_above_limit"));  // 10 of the 770 points from 0.1 %
       EXPECT_GT(share, 9.0 / 771);
       EXPECT_LT(share, 12.0 / 769);
     }
@@ -169,11 +169,11 @@ TEST(RunAnalysis, KineticEnergyAboveTheLimitAfterTheRampIsFlagged) {
     if (bump > 0.05) {
       EXPECT_GE(lo, 0.0015);  // starts after the bump (0.01 from strain 0.0015 on)...
       EXPECT_LT(lo, 0.00155);  // ...at the first settled point
-      EXPECT_TRUE(a.find("linear_window")->find("start_after_ke_ie_settled")->as_bool());
+      EXPECT_TRUE(json_bool(*json_find(*json_find(a, "linear_window"), "start_after_ke_ie_settled")));
     } else {
       EXPECT_LT(lo, 0.00056);  // at the ramp's end
     }
-    EXPECT_FALSE(a.find("quasi_static")->find("flagged")->as_bool()) << bump;
+    EXPECT_FALSE(json_bool(*json_find(*json_find(a, "quasi_static"), "flagged"))) << bump;
     EXPECT_NEAR(at(a, {"quasi_static", "ke_ie_max_from_window_start"}), bump > 0.05 ? 0.01 : bump, 1e-12);
     fs::remove_all(dir);
   }
@@ -195,15 +195,15 @@ TEST(RunAnalysis, InterpenetrationShareAndFlag) {
     EXPECT_NEAR(at(j, {"interpenetration", "share_of_compaction"}), share, 1e-9);
     EXPECT_NEAR(at(j, {"interpenetration", "share_of_compaction_at_window_end"}), share, 1e-9);
     EXPECT_NEAR(at(j, {"interpenetration", "growth_fraction_of_box"}), share * s.max_strain, 1e-9);
-    EXPECT_EQ(j.find("interpenetration")->find("flagged")->as_bool(), share > 0.25);
+    EXPECT_EQ(json_bool(*json_find(*json_find(j, "interpenetration"), "flagged")), share > 0.25);
     bool warned = false;
-    for (const auto& w : j.find("warnings")->as_array()) warned |= w.as_string().find("pass into each other") != std::string::npos;
+    for (const auto& w : json_array(*json_find(j, "warnings"))) warned |= json_string(w).find("pass into each other") != std::string::npos;
     EXPECT_EQ(warned, share > 0.25);
     fs::remove_all(dir);
   }
   const fs::path dir = scratch("no_overlap");
   test::write_synthetic_run(dir, test::SyntheticRun{});
-  EXPECT_TRUE(analyze_run(dir.string(), AnalysisOptions{}).find("interpenetration")->is_null());
+  EXPECT_TRUE(json_find(analyze_run(dir.string(), AnalysisOptions{}), "interpenetration")->is_null());
   fs::remove_all(dir);
 }
 
@@ -215,7 +215,7 @@ TEST(RunAnalysis, OverriddenWindowAndNamedErrors) {
   o.window_lo = 0.001;
   o.window_hi = 0.003;
   const Json a = analyze_run(dir.string(), o);
-  EXPECT_FALSE(a.find("linear_window")->find("automatic")->as_bool());
+  EXPECT_FALSE(json_bool(*json_find(*json_find(a, "linear_window"), "automatic")));
   EXPECT_NEAR(at(a, {"moduli", "M_Pa"}) / (s.K + 4 * s.G / 3), 1.0, 1e-6);
 
   o.window_hi = 0.0005;
@@ -313,18 +313,18 @@ TEST(RunAnalysis, EnergyGainIsFlagged) {
     const auto dir = scratch("energy" + std::to_string(gain));
     test::write_synthetic_run(dir, s);
     const Json a = analyze_run(dir.string(), AnalysisOptions{});
-    const Json& e = *a.find("energy_balance");
+    const Json& e = *json_find(a, "energy_balance");
     ASSERT_FALSE(e.is_null());
     const double expect = (0.9 + gain) * 1.01;  // (1 + KE/IE) x stress work / punch work
-    EXPECT_NEAR(e.find("max_ratio")->as_number(), gain > 0 ? expect : 0.9 * 1.01, 1e-6) << gain;
-    EXPECT_NEAR(e.find("ratio_at_end")->as_number(), expect, 1e-6) << gain;
+    EXPECT_NEAR(json_number(*json_find(e, "max_ratio")), gain > 0 ? expect : 0.9 * 1.01, 1e-6) << gain;
+    EXPECT_NEAR(json_number(*json_find(e, "ratio_at_end")), expect, 1e-6) << gain;
     const bool flag = expect > 1.05;
-    EXPECT_EQ(e.find("flagged")->as_bool(), flag) << gain;
+    EXPECT_EQ(json_bool(*json_find(e, "flagged")), flag) << gain;
     if (flag) {
-      EXPECT_GE(e.find("at_strain")->as_number(), s.energy_gain_from);  // the ratio is flat from there on
+      EXPECT_GE(json_number(*json_find(e, "at_strain")), s.energy_gain_from);  // the ratio is flat from there on
     }
     bool warned = false;
-    for (const auto& w : a.find("warnings")->as_array()) warned |= w.as_string().find("energy not conserved") != std::string::npos;
+    for (const auto& w : json_array(*json_find(a, "warnings"))) warned |= json_string(w).find("energy not conserved") != std::string::npos;
     EXPECT_EQ(warned, flag) << gain;
     fs::remove_all(dir);
   }
@@ -344,7 +344,7 @@ TEST(RunAnalysis, EnergyGainIsFlagged) {
       out << "\n";
     }
   }
-  EXPECT_TRUE(analyze_run(dir.string(), AnalysisOptions{}).find("energy_balance")->is_null());
+  EXPECT_TRUE(json_find(analyze_run(dir.string(), AnalysisOptions{}), "energy_balance")->is_null());
   fs::remove_all(dir);
 }
 

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "analysis/study_fits.hpp"
 #include "analysis/study_report.hpp"
 #include "core/error.hpp"
@@ -141,12 +141,12 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   // TMD). The moduli are read back to 1e-6 (RunAnalysis), so the fit is exact to about 1e-5; 1e-3
   // catches a wrong rho0, a swapped K/G or a fit in the wrong variable.
   {
-    const Json fits = Json::read_file((dir / "report" / "fits.json").string());
-    const Json& law = *fits.find("density_law");
-    EXPECT_NEAR(law.find("rho0_kg_m3")->as_number(), 1942.0, 1e-6 * 1942);
-    ASSERT_TRUE(law.find("K") && law.find("G")) << "density law not fitted";
+    const Json fits = json_read_file((dir / "report" / "fits.json").string());
+    const Json& law = *json_find(fits, "density_law");
+    EXPECT_NEAR(json_number(*json_find(law, "rho0_kg_m3")), 1942.0, 1e-6 * 1942);
+    ASSERT_TRUE(json_find(law, "K") && json_find(law, "G")) << "density law not fitted";
     auto param = [&](const char* m, const char* p) {
-      return law.find(m)->find("parameters")->find(p)->find("value")->as_number();
+      return json_number(*json_find(*json_find(*law.find(m), "parameters")->find(p), "value"));
     };
     // K reads the volume-averaged sigma_zz, which the synthetic runs bias by +1 %: K = (M + lambda +
     // 1.01 lambda)/3 is 0.01 lambda/(3K) = +0.23 % high on these runs (lambda/K = 0.69)
@@ -164,17 +164,17 @@ TEST(StudyReport, SeedsOfOneStudyValueAreOneConditionWhateverTheirDensity) {
   const fs::path dir = make_study("seeds", true);
   StudyFitOptions opt;
   const Json fits = fit_study(load_study(dir.string(), opt), opt);
-  const Json* conds = fits.find("conditions");
+  const Json* conds = json_find(fits, "conditions");
   ASSERT_NE(conds, nullptr);
-  ASSERT_EQ(conds->as_array().size(), 7u);  // 4 temperatures + 3 densities
-  const Json& first = conds->as_array().front();
-  EXPECT_EQ(first.find("value")->as_string(), "293 K");
-  EXPECT_EQ(first.find("runs")->as_array().size(), 2u);
-  const Json* rho = first.find("stats")->find("density_kg_m3");
-  EXPECT_NEAR(rho->find("mean")->as_number(), 1788.5, 1e-9);
-  EXPECT_NEAR(rho->find("std")->as_number(), 3 / std::sqrt(2.0), 1e-9);
+  ASSERT_EQ(json_array(*conds).size(), 7u);  // 4 temperatures + 3 densities
+  const Json& first = json_array(*conds).front();
+  EXPECT_EQ(json_string(*json_find(first, "value")), "293 K");
+  EXPECT_EQ(json_array(*json_find(first, "runs")).size(), 2u);
+  const Json* rho = json_find(*json_find(first, "stats"), "density_kg_m3");
+  EXPECT_NEAR(json_number(*json_find(*rho, "mean")), 1788.5, 1e-9);
+  EXPECT_NEAR(json_number(*json_find(*rho, "std")), 3 / std::sqrt(2.0), 1e-9);
   // no "nominal" density: it would be one seed's measured value
-  EXPECT_EQ(first.find("density_nominal_kg_m3"), nullptr);
+  EXPECT_EQ(json_find(first, "density_nominal_kg_m3"), nullptr);
   if (!HasFailure()) fs::remove_all(dir);
 }
 
@@ -215,12 +215,12 @@ TEST(StudyReport, PartialReportUsesTheFinishedRunsAndNamesTheOthers) {
   ReportOptions opt;
   opt.fits.partial = true;
   build_report(dir.string(), opt);
-  const Json fits = Json::read_file((dir / "report" / "fits.json").string());
-  const Json* left = fits.find("missing_runs");
+  const Json fits = json_read_file((dir / "report" / "fits.json").string());
+  const Json* left = json_find(fits, "missing_runs");
   ASSERT_NE(left, nullptr);
-  ASSERT_EQ(left->as_array().size(), 2u);
-  EXPECT_EQ(left->as_array()[0].find("id")->as_string(), "T353_s1");
-  EXPECT_EQ(left->as_array()[1].find("id")->as_string(), "rho1839_s1");
+  ASSERT_EQ(json_array(*left).size(), 2u);
+  EXPECT_EQ(json_string(*json_find(json_array(*left)[0], "id")), "T353_s1");
+  EXPECT_EQ(json_string(*json_find(json_array(*left)[1], "id")), "rho1839_s1");
   std::ifstream md(dir / "report" / "report.md");
   const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("(partial)"), std::string::npos);

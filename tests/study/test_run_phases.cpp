@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/json.hpp"
+#include "io/json.hpp"
 #include "core/error.hpp"
 #include "study/run_phases.hpp"
 
@@ -53,7 +53,7 @@ StudyRun make_run(const std::string& name, const std::string& deck, const std::s
   StudyRun r;
   r.id = name;
   r.dir = dir.string();
-  r.analysis = Json::parse(R"({"linear_window": {"lo": 0.004, "hi": 0.02}})");
+  r.analysis = json_parse(R"({"linear_window": {"lo": 0.004, "hi": 0.02}})");
   return r;
 }
 
@@ -102,7 +102,7 @@ TEST(RunPhases, AMaterialMissingFromTheDeckIsNamed) {
 
 TEST(RunPhases, ARunWithoutALinearWindowIsNamed) {
   StudyRun r = make_run("no_window", kDeck, kMaterials);
-  r.analysis = Json::parse(R"({"porosity": 0.1})");
+  r.analysis = json_parse(R"({"porosity": 0.1})");
   std::string source;
   try {
     run_phases_for_bounds(r, source);
