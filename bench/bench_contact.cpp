@@ -52,14 +52,16 @@ center = ["{} um", "{} um"]
 radius = "32 um"
 material = "tatb"
 field = "{}"
-)", 50 + 80 * i, 60 + 80 * j, colours ? fmt::format("tatb_{}", i % 2 + 2 * (j % 2)) : "all");
+)",
+                          50 + 80 * i, 60 + 80 * j, colours ? fmt::format("tatb_{}", i % 2 + 2 * (j % 2)) : "all");
   text += fmt::format(R"(
 [[geometry]]
 min = ["0 mm", "0 mm"]
 max = ["0.5 mm", "0.6 mm"]
 material = "binder"
 field = "{}"
-)", colours ? "binder" : "all");
+)",
+                      colours ? "binder" : "all");
   if (colours) text += "[contact]\ndefault = \"coulomb\"\nfriction = 0.3\n";
   return text;
 }
@@ -90,9 +92,10 @@ int main(int argc, char** argv) {
     int f1 = 0, f6 = 0;
     const double single = seconds_per_step(false, steps, n1, f1);
     const double multi = seconds_per_step(true, steps, n6, f6);
-    std::printf("threads %d  particles %zu  steps %d  single field (%d deformable): %.3f ms/step  "
-                "%d deformable fields + die: %.3f ms/step  ratio %.2f\n",
-                t, n6, steps, f1, 1e3 * single, f6, 1e3 * multi, multi / single);
+    std::printf(
+        "threads %d  particles %zu  steps %d  single field (%d deformable): %.3f ms/step  "
+        "%d deformable fields + die: %.3f ms/step  ratio %.2f\n",
+        t, n6, steps, f1, 1e3 * single, f6, 1e3 * multi, multi / single);
   }
   return 0;
 }

@@ -25,8 +25,10 @@ int main(int argc, char** argv) {
   std::vector<int> threads;
   std::string integrator = "usl";
   for (int i = 2; i < argc; ++i) {
-    if (std::isdigit(static_cast<unsigned char>(argv[i][0]))) threads.push_back(std::atoi(argv[i]));
-    else integrator = argv[i];
+    if (std::isdigit(static_cast<unsigned char>(argv[i][0])))
+      threads.push_back(std::atoi(argv[i]));
+    else
+      integrator = argv[i];
   }
   if (threads.empty()) threads = {1, 2};
   const std::string deck_text = fmt::format(R"(
@@ -52,7 +54,8 @@ shear_modulus = "11.5 GPa"
 min = ["0 mm", "0 mm"]
 max = ["1.0 mm", "1.25 mm"]
 material = "block"
-)", integrator);
+)",
+                                            integrator);
   for (int t : threads) {
     omp_set_num_threads(t);
     Deck deck = Deck::from_string(deck_text, "bench");
@@ -66,14 +69,17 @@ material = "block"
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
-    const auto seconds = [](const timeval& tv) { return static_cast<double>(tv.tv_sec) + 1e-6 * static_cast<double>(tv.tv_usec); };
+    const auto seconds = [](const timeval& tv) {
+      return static_cast<double>(tv.tv_sec) + 1e-6 * static_cast<double>(tv.tv_usec);
+    };
     const double user = seconds(ru.ru_utime) - seconds(ru0.ru_utime);
     const double cpu = user + seconds(ru.ru_stime) - seconds(ru0.ru_stime);
     const double n = static_cast<double>(sc.particles.size());
-    std::printf("integrator %s  threads %d  particles %.0f  steps %d  wall %.3f s  %.3g particle-updates/s  "
-                "user %.3f s  cpu %.3f s  %.3g particle-updates/cpu-s  peak RSS %.1f MB (%.0f bytes/particle)\n",
-                integrator.c_str(), t, n, steps, wall, n * steps / wall, user, cpu, n * steps / cpu,
-                ru.ru_maxrss / 1024.0, ru.ru_maxrss * 1024.0 / n);
+    std::printf(
+        "integrator %s  threads %d  particles %.0f  steps %d  wall %.3f s  %.3g particle-updates/s  "
+        "user %.3f s  cpu %.3f s  %.3g particle-updates/cpu-s  peak RSS %.1f MB (%.0f bytes/particle)\n",
+        integrator.c_str(), t, n, steps, wall, n * steps / wall, user, cpu, n * steps / cpu, ru.ru_maxrss / 1024.0,
+        ru.ru_maxrss * 1024.0 / n);
   }
   return 0;
 }

@@ -11,15 +11,15 @@ namespace pbx {
 
 struct ConfinedModuli {
   // Slopes (Pa) over the linear window; all compression positive.
-  LineFit punch;      // M from the punch stress (primary)
-  LineFit wall;       // lambda from the side-wall stress (primary)
-  LineFit axial_vol;  // M from -<sigma_yy> (cross-check)
+  LineFit punch;        // M from the punch stress (primary)
+  LineFit wall;         // lambda from the side-wall stress (primary)
+  LineFit axial_vol;    // M from -<sigma_yy> (cross-check)
   LineFit lateral_vol;  // lambda from -<sigma_xx> (cross-check)
-  LineFit zz_vol;     // lambda_z from -<sigma_zz>
+  LineFit zz_vol;       // lambda_z from -<sigma_zz>
   double M = 0, lambda = 0, lambda_z = 0;
-  double K = 0;           // (M + lambda + lambda_z)/3, measured sigma_zz
+  double K = 0;            // (M + lambda + lambda_z)/3, measured sigma_zz
   double K_isotropic = 0;  // (M + 2 lambda)/3, assuming sigma_zz = sigma_xx
-  double K_volume = 0;    // from the volume averages alone: slope of -(sxx + syy + szz)/3
+  double K_volume = 0;     // from the volume averages alone: slope of -(sxx + syy + szz)/3
   double G = 0, E = 0, nu = 0;
   double lateral_coefficient = 0;  // k0 = lambda / M
   Json to_json() const;

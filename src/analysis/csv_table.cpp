@@ -53,8 +53,7 @@ CsvTable CsvTable::parse(const std::string& text, const std::string& source) {
     if (trim(line).empty() || trim(line)[0] == '#') continue;
     auto cells = split(line);
     if (cells.size() != t.names_.size()) {
-      throw InputError(fmt::format("{}:{}: {} cells, header has {}", source, lineno, cells.size(),
-                                   t.names_.size()));
+      throw InputError(fmt::format("{}:{}: {} cells, header has {}", source, lineno, cells.size(), t.names_.size()));
     }
     for (std::size_t c = 0; c < cells.size(); ++c) {
       double x = std::nan("");
@@ -102,7 +101,8 @@ const std::vector<double>& CsvTable::numbers(const std::string& name) const {
   const std::vector<double>& v = column(name);
   const std::size_t c = static_cast<std::size_t>(std::find(names_.begin(), names_.end(), name) - names_.begin());
   const auto& [line, text] = first_bad_[c];
-  if (line > 0) throw InputError(fmt::format("{}:{}: column '{}' holds '{}', not a finite number", source_, line, name, text));
+  if (line > 0)
+    throw InputError(fmt::format("{}:{}: column '{}' holds '{}', not a finite number", source_, line, name, text));
   return v;
 }
 

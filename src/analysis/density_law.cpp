@@ -16,8 +16,8 @@ double mixture_density(double porosity, double w_grain, double rho_grain, double
   return (1.0 - porosity) / (w_grain / rho_grain + (1.0 - w_grain) / rho_binder);
 }
 
-FitResult fit_density_law(const std::vector<double>& rho, const std::vector<double>& M, double rho0,
-                          double MU, double confidence) {
+FitResult fit_density_law(const std::vector<double>& rho, const std::vector<double>& M, double rho0, double MU,
+                          double confidence) {
   if (rho.size() != M.size()) throw InputError("Eq. 19-22 fit: density and modulus columns differ in length");
   if (rho.size() < 2) throw InputError(fmt::format("Eq. 19-22 fit needs at least 2 densities, got {}", rho.size()));
   if (!(rho0 > 0) || !(MU > 0)) throw InputError("Eq. 19-22 fit: rho0 and the upper-bound modulus must be > 0");
@@ -27,7 +27,8 @@ FitResult fit_density_law(const std::vector<double>& rho, const std::vector<doub
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto u = std::size_t(i);
     if (!(rho[u] > 0) || !(M[u] > 0)) {
-      throw InputError(fmt::format("Eq. 19-22 fit: point {} has density {} and modulus {}; both must be > 0", i, rho[u], M[u]));
+      throw InputError(
+          fmt::format("Eq. 19-22 fit: point {} has density {} and modulus {}; both must be > 0", i, rho[u], M[u]));
     }
     X(i, 0) = 1.0;
     X(i, 1) = std::log(rho[u] / rho0);
@@ -37,9 +38,10 @@ FitResult fit_density_law(const std::vector<double>& rho, const std::vector<doub
   fit.model = "eq18: M/M^U = k (rho/rho0)^n";
   fit.method = "linear least squares on ln(M/M^U) against ln(rho/rho0) (Eq. 19-20)";
   const FitParameter lk = fit["ln_k"];
-  fit.params.front() = {"k", "", std::exp(lk.value), std::exp(lk.value) * lk.std_error, std::exp(lk.ci_low),
-                        std::exp(lk.ci_high)};
-  fit.note = fit.note.empty() ? std::string("sse/rmse/r2 are of ln(M/M^U)") : std::string("sse/rmse/r2 are of ln(M/M^U)") + "; " + fit.note;
+  fit.params.front() = {
+      "k", "", std::exp(lk.value), std::exp(lk.value) * lk.std_error, std::exp(lk.ci_low), std::exp(lk.ci_high)};
+  fit.note = fit.note.empty() ? std::string("sse/rmse/r2 are of ln(M/M^U)")
+                              : std::string("sse/rmse/r2 are of ln(M/M^U)") + "; " + fit.note;
   return fit;
 }
 

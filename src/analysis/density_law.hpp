@@ -8,8 +8,8 @@
 namespace pbx {
 
 // Parameters "k" and "n" (dimensionless). The interval of k is exp of that of ln k.
-FitResult fit_density_law(const std::vector<double>& density, const std::vector<double>& modulus,
-                          double rho0, double modulus_upper, double confidence = 0.95);
+FitResult fit_density_law(const std::vector<double>& density, const std::vector<double>& modulus, double rho0,
+                          double modulus_upper, double confidence = 0.95);
 
 double density_law(double density, double k, double n, double rho0, double modulus_upper);
 

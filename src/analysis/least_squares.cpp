@@ -80,9 +80,10 @@ void set_confidence_intervals(FitResult& fit, const Eigen::MatrixXd& J) {
   if (fit.dof <= 0) {
     // as many parameters as points: the curve passes through every point and says nothing about
     // its own uncertainty (the intervals stay NaN, and the fit says why)
-    const std::string why = fmt::format("no degrees of freedom ({} points for {} parameters): the fit passes through "
-                                        "every point, so no confidence interval can be given",
-                                        fit.n, p);
+    const std::string why = fmt::format(
+        "no degrees of freedom ({} points for {} parameters): the fit passes through "
+        "every point, so no confidence interval can be given",
+        fit.n, p);
     fit.note = fit.note.empty() ? why : fit.note + "; " + why;
   }
   if (fit.dof > 0) {

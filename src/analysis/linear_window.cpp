@@ -17,9 +17,10 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
   std::erase_if(idx, [&](std::size_t i) { return !std::isfinite(stress[i]); });
   if (opt.min_points < 3) throw InputError("linear window: min_points must be >= 3");
   if (static_cast<int>(idx.size()) < opt.min_points) {
-    throw InputError(fmt::format("linear window: only {} points between strain {} and {} (need {}); "
-                                 "the run is too short or too coarsely sampled, or set the window by hand",
-                                 idx.size(), opt.start, opt.max_strain, opt.min_points));
+    throw InputError(
+        fmt::format("linear window: only {} points between strain {} and {} (need {}); "
+                    "the run is too short or too coarsely sampled, or set the window by hand",
+                    idx.size(), opt.start, opt.max_strain, opt.min_points));
   }
   // Running sums make each trial fit O(1); only the tail residuals need a loop.
   double sx = 0, sy = 0, sxx = 0, sxy = 0;

@@ -14,8 +14,8 @@ double normalized_curve(double strain_percent, double A, double B, double n) {
   return A * strain_percent + B * std::pow(strain_percent, n);
 }
 
-double constitutive_stress(double strain, double T_K, double sigma0_Pa, double alpha, double T0_K, double A,
-                           double B, double n) {
+double constitutive_stress(double strain, double T_K, double sigma0_Pa, double alpha, double T0_K, double A, double B,
+                           double n) {
   return temperature_law(T_K, sigma0_Pa, alpha, T0_K) * normalized_curve(100.0 * strain, A, B, n);
 }
 
@@ -24,7 +24,8 @@ FitResult fit_normalized_curve(const std::vector<double>& e, const std::vector<d
   if (e.size() < 3) throw InputError(fmt::format("Eq. 14 fit needs at least 3 points, got {}", e.size()));
   for (std::size_t i = 0; i < e.size(); ++i) {
     if (!(e[i] > 0) || !std::isfinite(s[i])) {
-      throw InputError(fmt::format("Eq. 14 fit: point {} has strain {} %, sigma_n {}; strain must be > 0", i, e[i], s[i]));
+      throw InputError(
+          fmt::format("Eq. 14 fit: point {} has strain {} %, sigma_n {}; strain must be > 0", i, e[i], s[i]));
     }
   }
   const int m = static_cast<int>(e.size());

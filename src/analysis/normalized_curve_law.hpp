@@ -17,7 +17,7 @@ FitResult fit_normalized_curve(const std::vector<double>& strain_percent, const 
 double normalized_curve(double strain_percent, double A, double B, double n);
 
 // Eq. 15: stress (Pa) at strain (fraction, converted to percent inside) and temperature.
-double constitutive_stress(double strain, double T_K, double sigma0_Pa, double alpha, double T0_K, double A,
-                           double B, double n);
+double constitutive_stress(double strain, double T_K, double sigma0_Pa, double alpha, double T0_K, double A, double B,
+                           double n);
 
 }  // namespace pbx

@@ -24,9 +24,10 @@ std::string report_file(const std::string& name) {
     if (fs::exists(p)) return p.string();
   std::string list;
   for (const auto& p : tried) list += (list.empty() ? "" : ", ") + p.string();
-  throw InputError(fmt::format("the report file '{}' was not found (tried {}); set PBXMPM_REPORT_DIR to the folder "
-                               "holding make_report.py and paper_values.toml (tools/report in the source tree)",
-                               name, list));
+  throw InputError(
+      fmt::format("the report file '{}' was not found (tried {}); set PBXMPM_REPORT_DIR to the folder "
+                  "holding make_report.py and paper_values.toml (tools/report in the source tree)",
+                  name, list));
 }
 
 }  // namespace pbx

@@ -85,10 +85,11 @@ Json interpenetration_json(const StressStrainCurve& c, double width, double heig
   const bool flagged = std::isfinite(worst) && worst > opt.overlap_limit;
   j["flagged"] = flagged;
   if (flagged) {
-    warnings.push_back(fmt::format("grains pass into each other: the overlap of different fields' particle domains "
-                                   "takes {:.3g} % of the compaction at the end of the linear window and {:.3g} % "
-                                   "at the end of the run (limit {:.3g} %)",
-                                   100 * share_window, 100 * share_end, 100 * opt.overlap_limit));
+    warnings.push_back(
+        fmt::format("grains pass into each other: the overlap of different fields' particle domains "
+                    "takes {:.3g} % of the compaction at the end of the linear window and {:.3g} % "
+                    "at the end of the run (limit {:.3g} %)",
+                    100 * share_window, 100 * share_end, 100 * opt.overlap_limit));
   }
   return j;
 }
@@ -120,10 +121,11 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
   const bool flagged = worst > 1.0 + opt.energy_gain_limit;
   j["flagged"] = flagged;
   if (flagged) {
-    warnings.push_back(fmt::format("energy not conserved: kinetic energy plus stress work reach {:.3g} x the punch "
-                                   "work at strain {:.4g} (limit {:.3g}): the discretisation adds energy (a local "
-                                   "instability or a non-conservative contact law)",
-                                   worst, at, 1.0 + opt.energy_gain_limit));
+    warnings.push_back(
+        fmt::format("energy not conserved: kinetic energy plus stress work reach {:.3g} x the punch "
+                    "work at strain {:.4g} (limit {:.3g}): the discretisation adds energy (a local "
+                    "instability or a non-conservative contact law)",
+                    worst, at, 1.0 + opt.energy_gain_limit));
   }
   return j;
 }
@@ -152,7 +154,8 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
   }
   o.window_tolerance = t.in_range("window_tolerance", 1e-6, 1.0, o.window_tolerance);
   const long min_points = t.integer("window_min_points", o.window_min_points);  // checked before the cast
-  if (min_points < 3 || min_points > 1000000) t.fail("window_min_points", fmt::format("must be in [3, 1000000] (got {})", min_points));
+  if (min_points < 3 || min_points > 1000000)
+    t.fail("window_min_points", fmt::format("must be in [3, 1000000] (got {})", min_points));
   o.window_min_points = static_cast<int>(min_points);
   o.window_max_strain = t.in_range("window_max_strain", 1e-9, 1.0, o.window_max_strain);
   o.strength_max_strain = t.in_range("strength_max_strain", 1e-9, 1.0, o.strength_max_strain);
@@ -183,8 +186,8 @@ void AnalysisOptions::validate() const {
   in(strength_max_strain, 1e-9, 1.0, "strength window end strain (strength_max_strain, --strength-strain)");
   in(strength_plateau_from, 0.0, 1.0, "strength_plateau_from");
   if (!(strength_plateau_from < strength_max_strain))
-    throw InputError(fmt::format("strength_plateau_from = {}: must be below the strength window end strain {}", strength_plateau_from,
-                                 strength_max_strain));
+    throw InputError(fmt::format("strength_plateau_from = {}: must be below the strength window end strain {}",
+                                 strength_plateau_from, strength_max_strain));
   in(window_max_strain, 1e-9, 1.0, "window_max_strain");
   in(window_tolerance, 1e-6, 1.0, "window tolerance (window_tolerance, --window-tolerance)");
   in(ke_ie_limit, 0.0, 10.0, "KE/IE limit (ke_ie_limit, --ke-ie-limit)");
@@ -216,7 +219,8 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   opt.validate();
   const fs::path dir(run_dir);
   if (fs::exists(dir) && !fs::is_directory(dir))
-    throw InputError(fmt::format("'{}' is a file: give the run's folder (the one holding run.json and history.csv)", run_dir));
+    throw InputError(
+        fmt::format("'{}' is a file: give the run's folder (the one holding run.json and history.csv)", run_dir));
   if (!fs::is_directory(dir)) throw InputError(fmt::format("run directory '{}' does not exist", run_dir));
   const fs::path run_json = dir / "run.json", history = dir / "history.csv";
   if (!fs::exists(run_json)) throw InputError(fmt::format("{}: missing (written by 'pbxmpm run')", run_json.string()));
@@ -279,8 +283,9 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   const Strength s_punch = strength_and_yield(c.strain, c.punch_stress, mod.punch, w.hi, so);
   const Strength s_vol = strength_and_yield(c.strain, c.vol_axial, mod.axial_vol, w.hi, so);
   if (s_punch.still_rising) {
-    warnings.push_back("the punch stress still rises at the end of the strength window: no plateau, so the strength (the mean "
-                       "over the plateau window) and the peak (the end value) are lower bounds of a plateau level");
+    warnings.push_back(
+        "the punch stress still rises at the end of the strength window: no plateau, so the strength (the mean "
+        "over the plateau window) and the peak (the end value) are lower bounds of a plateau level");
   }
 
   Json j = Json::object();
@@ -318,7 +323,8 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   {
     constexpr double kFraction = 0.99;
     Json comp = Json::object();
-    const double rho0 = number_or(spec, "density_kg_m3", std::nan("")), tmd = number_or(spec, "tmd_kg_m3", std::nan(""));
+    const double rho0 = number_or(spec, "density_kg_m3", std::nan("")),
+                 tmd = number_or(spec, "tmd_kg_m3", std::nan(""));
     comp["tmd_fraction"] = kFraction;
     const double e99 = 1.0 - rho0 / (kFraction * tmd);
     Json value;
@@ -332,7 +338,8 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
           value = Json(c.punch_stress[i - 1] + f * (c.punch_stress[i] - c.punch_stress[i - 1]));
           break;
         }
-      if (value.is_null()) note = fmt::format("the run ends at strain {:.4g}, before 99 % TMD at strain {:.4g}", c.strain.back(), e99);
+      if (value.is_null())
+        note = fmt::format("the run ends at strain {:.4g}, before 99 % TMD at strain {:.4g}", c.strain.back(), e99);
     }
     comp["strain"] = std::isfinite(e99) ? Json(e99) : Json();
     comp["punch_stress_Pa"] = value;
@@ -349,9 +356,10 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   j["agreement"] = agree;
   const CurveDiscrepancy axial = curve_discrepancy(c.strain, c.punch_stress, c.vol_axial, ramp);
   if (axial.rms_relative > 0.05) {
-    warnings.push_back(fmt::format("punch stress and volume-averaged -syy differ by {:.3g} % rms (of the maximum): "
-                                   "the punch reaction rings or the specimen is not in equilibrium",
-                                   100 * axial.rms_relative));
+    warnings.push_back(
+        fmt::format("punch stress and volume-averaged -syy differ by {:.3g} % rms (of the maximum): "
+                    "the punch reaction rings or the specimen is not in equilibrium",
+                    100 * axial.rms_relative));
   }
 
   // KE/IE after the ramp (reported) and from the start of the linear window on (flagged): the
@@ -375,12 +383,14 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   qs["flagged"] = ke_max > opt.ke_ie_limit;
   j["quasi_static"] = qs;
   if (ke_max > opt.ke_ie_limit) {
-    warnings.push_back(fmt::format("not quasi-static: KE/IE reaches {:.3g} after the start of the linear window at "
-                                   "strain {:.4g} (limit {:.3g})", ke_max, w.lo, opt.ke_ie_limit));
+    warnings.push_back(
+        fmt::format("not quasi-static: KE/IE reaches {:.3g} after the start of the linear window at "
+                    "strain {:.4g} (limit {:.3g})",
+                    ke_max, w.lo, opt.ke_ie_limit));
   }
   j["energy_balance"] = energy_balance_json(c, std::max(w.lo, ramp), w.hi, opt, warnings);
   j["interpenetration"] = interpenetration_json(c, number_or(spec, "width_m", std::nan("")),
-                                                  number_or(spec, "height_m", std::nan("")), w.hi, opt, warnings);
+                                                number_or(spec, "height_m", std::nan("")), w.hi, opt, warnings);
   Json warn = Json::array();
   for (auto& s : warnings) warn.push_back(s);
   j["warnings"] = warn;

@@ -42,7 +42,8 @@ Strength strength_and_yield(const std::vector<double>& strain, const std::vector
   if (!(prev_e > first)) {
     s.strength = s.peak;
     s.note += (s.note.empty() ? "" : "; ") +
-              fmt::format("the curve ends before the plateau window starts at strain {:.4g}: strength is the peak", opt.plateau_from);
+              fmt::format("the curve ends before the plateau window starts at strain {:.4g}: strength is the peak",
+                          opt.plateau_from);
   } else {
     s.strength = area / (prev_e - first);
   }
@@ -83,7 +84,8 @@ Strength strength_and_yield(const std::vector<double>& strain, const std::vector
 Json Strength::to_json() const {
   Json j = Json::object();
   j["strength_Pa"] = strength;
-  j["strength_definition"] = fmt::format("mean stress over strain [{:.4g}, {:.4g}] (the plateau level)", plateau_from, window_end);
+  j["strength_definition"] =
+      fmt::format("mean stress over strain [{:.4g}, {:.4g}] (the plateau level)", plateau_from, window_end);
   j["peak_strength_Pa"] = peak;
   j["strain_at_peak"] = strain_at_peak;
   j["end_stress_Pa"] = end_stress;

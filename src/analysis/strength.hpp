@@ -23,13 +23,13 @@ struct StrengthOptions {
 };
 
 struct Strength {
-  double strength = 0;         // Pa: the plateau mean over [plateau_from, window_end]
-  double plateau_from = 0;     // strain where that mean starts
-  double peak = 0;             // Pa: the maximum up to window_end
+  double strength = 0;      // Pa: the plateau mean over [plateau_from, window_end]
+  double plateau_from = 0;  // strain where that mean starts
+  double peak = 0;          // Pa: the maximum up to window_end
   double strain_at_peak = 0;
-  double end_stress = 0;       // Pa: at window_end
-  bool still_rising = false;   // peak at the window end
-  double window_end = 0;       // strain actually used (the run may end earlier)
+  double end_stress = 0;      // Pa: at window_end
+  bool still_rising = false;  // peak at the window end
+  double window_end = 0;      // strain actually used (the run may end earlier)
   std::optional<double> yield_stress, yield_strain;
   double plateau_lo = 0, plateau_hi = 0;
   LineFit plateau;

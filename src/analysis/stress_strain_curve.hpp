@@ -9,14 +9,14 @@ namespace pbx {
 
 struct StressStrainCurve {
   std::vector<double> strain;
-  std::vector<double> punch_stress;    // Pa, punch force / contact length
-  std::vector<double> wall_stress;     // Pa, mean side-wall force / current height
-  std::vector<double> vol_axial;       // Pa, -<sigma_yy>
-  std::vector<double> vol_lateral;     // Pa, -<sigma_xx>
+  std::vector<double> punch_stress;      // Pa, punch force / contact length
+  std::vector<double> wall_stress;       // Pa, mean side-wall force / current height
+  std::vector<double> vol_axial;         // Pa, -<sigma_yy>
+  std::vector<double> vol_lateral;       // Pa, -<sigma_xx>
   std::vector<double> vol_out_of_plane;  // Pa, -<sigma_zz>
-  std::vector<double> ke_ie;           // kinetic / internal energy of the specimen
-  std::vector<double> time;            // s
-  std::vector<double> field_overlap;   // m^2 per m, overlapping domains of different fields (empty: not in the file)
+  std::vector<double> ke_ie;             // kinetic / internal energy of the specimen
+  std::vector<double> time;              // s
+  std::vector<double> field_overlap;     // m^2 per m, overlapping domains of different fields (empty: not in the file)
   // J per m: kinetic energy, stress work, punch work (empty when the file has no energy columns)
   std::vector<double> kinetic, internal, punch_work;
   std::size_t size() const { return strain.size(); }

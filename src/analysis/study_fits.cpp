@@ -131,8 +131,8 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
   const fs::path sj = dir / "study.json";
   if (!fs::is_directory(dir)) throw InputError(fmt::format("study directory '{}' does not exist", study_dir));
   if (!fs::exists(sj)) {
-    throw InputError(fmt::format("{}: missing; a study directory holds study.json and runs/<id>/ (made by 'pbxmpm study')",
-                                 sj.string()));
+    throw InputError(fmt::format(
+        "{}: missing; a study directory holds study.json and runs/<id>/ (made by 'pbxmpm study')", sj.string()));
   }
   const Json study = json_read_file(sj.string());
   const Json* runs = json_find(study, "runs");
@@ -175,8 +175,10 @@ std::vector<StudyRun> load_study(const std::string& study_dir, const StudyFitOpt
       missing.push_back(fmt::format("{}/analysis.json", rel));
       ok = false;
     }
-    if (ok) out.push_back(std::move(r));
-    else left_out.push_back({r.id, missing.back()});
+    if (ok)
+      out.push_back(std::move(r));
+    else
+      left_out.push_back({r.id, missing.back()});
   }
   if (!missing.empty() && opt.partial && !out.empty()) {
     if (missing_runs) *missing_runs = left_out;
@@ -263,7 +265,8 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     auto same = [&](const Cond& c) {
       if (c.group != g || c.value != value) return false;
       if (!value.empty()) return true;
-      return std::fabs(c.T - T) < 0.5 && (std::fabs(c.rho_nominal - rn) < 0.5 || (std::isnan(rn) && std::isnan(c.rho_nominal)));
+      return std::fabs(c.T - T) < 0.5 &&
+             (std::fabs(c.rho_nominal - rn) < 0.5 || (std::isnan(rn) && std::isnan(c.rho_nominal)));
     };
     auto it = std::find_if(conds.begin(), conds.end(), same);
     if (it == conds.end()) {
@@ -315,8 +318,9 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   eq13["strength_Pa"] = json_numbers(sc);
   std::vector<double> distinct_T = T;
   std::sort(distinct_T.begin(), distinct_T.end());
-  distinct_T.erase(std::unique(distinct_T.begin(), distinct_T.end(), [](double a, double b) { return std::fabs(a - b) < 0.5; }),
-                   distinct_T.end());
+  distinct_T.erase(
+      std::unique(distinct_T.begin(), distinct_T.end(), [](double a, double b) { return std::fabs(a - b) < 0.5; }),
+      distinct_T.end());
   if (distinct_T.size() >= 2) {
     eq13["nonlinear"] = fit_temperature_law_nonlinear(T, sc, opt.T0_K, opt.confidence).to_json();
     eq13["loglinear"] = fit_temperature_law_loglinear(T, sc, opt.T0_K, opt.confidence).to_json();
@@ -382,8 +386,9 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   hsj["K_Pa"] = json_numbers(Ks);
   std::vector<double> distinct_rho = rho;
   std::sort(distinct_rho.begin(), distinct_rho.end());
-  distinct_rho.erase(std::unique(distinct_rho.begin(), distinct_rho.end(), [](double a, double b) { return std::fabs(a - b) < 0.05; }),
-                     distinct_rho.end());
+  distinct_rho.erase(
+      std::unique(distinct_rho.begin(), distinct_rho.end(), [](double a, double b) { return std::fabs(a - b) < 0.05; }),
+      distinct_rho.end());
   // Two densities must be two study conditions: the seeds of one porosity scatter by a few kg/m^3
   // (the packer's porosity tolerance), and a power law through that scatter is noise (n = -14).
   if (distinct_rho.size() >= 2 && conditions.size() >= 2) {
@@ -413,7 +418,8 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     hsj["bounds"] = b;
   }
   out["density_law"] = hsj;
-  out["paper_table3_refit"] = paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence);
+  out["paper_table3_refit"] =
+      paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence);
   return out;
 }
 

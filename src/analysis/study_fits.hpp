@@ -17,8 +17,8 @@ struct StudyRun;
 
 struct StudyFitOptions {
   double T0_K = 293.0;
-  double GU = 10.84e9, KU = 10.52e9;  // paper's upper bounds (its ref. [41]), Pa
-  std::optional<double> rho0;          // default: the runs' tmd_kg_m3, else 1942 kg/m3
+  double GU = 10.84e9, KU = 10.52e9;                    // paper's upper bounds (its ref. [41]), Pa
+  std::optional<double> rho0;                           // default: the runs' tmd_kg_m3, else 1942 kg/m3
   double eq14_lo_percent = 0.5, eq14_hi_percent = 3.0;  // Eq. 14 fitting window (plateau), % strain
   double confidence = 0.95;
   std::string paper_values;  // TOML with the paper's Table 3 (default: tools/report/paper_values.toml)

@@ -36,8 +36,8 @@ std::string build_report(const std::string& study_dir, const ReportOptions& opt)
   const std::string script = opt.script.empty() ? report_file("make_report.py") : opt.script;
   if (!fs::exists(script)) throw InputError(fmt::format("report script '{}' not found", script));
   if (!fs::exists(opt.python)) {
-    throw InputError(fmt::format("python '{}' not found (install python3-numpy python3-matplotlib: scripts/install-deps)",
-                                 opt.python));
+    throw InputError(fmt::format(
+        "python '{}' not found (install python3-numpy python3-matplotlib: scripts/install-deps)", opt.python));
   }
   const std::string paper = opt.fits.paper_values.empty() ? default_paper_values_path() : opt.fits.paper_values;
   const std::string cmd = fmt::format("{} {} {} --out {} --paper-values {}", quoted(opt.python), quoted(script),
@@ -45,10 +45,10 @@ std::string build_report(const std::string& study_dir, const ReportOptions& opt)
   const int rc = std::system(cmd.c_str());
   if (rc != 0) {
     // std::system returns a wait status (256 for exit code 1): say what it means
-    const std::string how = rc == -1               ? "could not be started"
-                            : WIFEXITED(rc)        ? fmt::format("exited with code {}", WEXITSTATUS(rc))
-                            : WIFSIGNALED(rc)      ? fmt::format("was killed by signal {}", WTERMSIG(rc))
-                                                   : fmt::format("ended with status {}", rc);
+    const std::string how = rc == -1          ? "could not be started"
+                            : WIFEXITED(rc)   ? fmt::format("exited with code {}", WEXITSTATUS(rc))
+                            : WIFSIGNALED(rc) ? fmt::format("was killed by signal {}", WTERMSIG(rc))
+                                              : fmt::format("ended with status {}", rc);
     throw std::runtime_error(fmt::format("the report script {} (its messages are above): {}", how, cmd));
   }
   return out.string();

@@ -15,7 +15,8 @@ void check(const std::vector<double>& T, const std::vector<double>& s, double T0
   if (!(T0 > 0)) throw InputError(fmt::format("Eq. 13 fit: reference temperature T0 must be > 0 K (got {})", T0));
   for (std::size_t i = 0; i < T.size(); ++i) {
     if (!(T[i] > 0) || !(s[i] > 0)) {
-      throw InputError(fmt::format("Eq. 13 fit: point {} has T = {} K, strength = {} Pa; both must be > 0", i, T[i], s[i]));
+      throw InputError(
+          fmt::format("Eq. 13 fit: point {} has T = {} K, strength = {} Pa; both must be > 0", i, T[i], s[i]));
     }
   }
 }
@@ -41,7 +42,11 @@ FitResult fit_temperature_law_loglinear(const std::vector<double>& T_K, const st
   fit.model = kModel;
   fit.method = "linear least squares on ln sigma_c (log-linear)";
   FitParameter& lns = fit["ln_sigma0"];
-  FitParameter s0{"sigma0", "Pa", std::exp(lns.value), std::exp(lns.value) * lns.std_error, std::exp(lns.ci_low),
+  FitParameter s0{"sigma0",
+                  "Pa",
+                  std::exp(lns.value),
+                  std::exp(lns.value) * lns.std_error,
+                  std::exp(lns.ci_low),
                   std::exp(lns.ci_high)};
   fit.params.insert(fit.params.begin(), s0);
   fit.params.erase(fit.params.begin() + 1);
@@ -51,7 +56,10 @@ FitResult fit_temperature_law_loglinear(const std::vector<double>& T_K, const st
     const double r = temperature_law(T_K[i], s0.value, fit["alpha"].value, T0_K) - strength_Pa[i];
     sse += r * r;
   }
-  fit.note = fit.note.empty() ? std::string(fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse)) : std::string(fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse)) + "; " + fit.note;
+  fit.note = fit.note.empty()
+                 ? std::string(fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse))
+                 : std::string(fmt::format("sse/rmse/r2 are of ln(sigma_c); SSE on sigma_c = {:.6g} Pa^2", sse)) +
+                       "; " + fit.note;
   return fit;
 }
 

@@ -44,7 +44,8 @@ double quantity_option(const std::string& text, const Dimension& d, const std::s
   // a plain number is in SI units, as in the decks ("293" is 293 K)
   const auto plain = parse_finite(text);
   const double v = plain ? *plain : to_si(text, d, option);
-  if (!(v > 0) || !std::isfinite(v)) throw InputError(fmt::format("{}: must be a finite quantity > 0 (got '{}')", option, text));
+  if (!(v > 0) || !std::isfinite(v))
+    throw InputError(fmt::format("{}: must be a finite quantity > 0 (got '{}')", option, text));
   return v;
 }
 
@@ -52,7 +53,8 @@ double quantity_option(const std::string& text, const Dimension& d, const std::s
 double number_option(const std::string& text, const std::string& option, double lo, bool lo_open) {
   const auto v = parse_finite(text);
   if (!v || (lo_open ? !(*v > lo) : !(*v >= lo)))
-    throw InputError(fmt::format("{}: expected a finite number {} {} (got '{}')", option, lo_open ? ">" : ">=", lo, text));
+    throw InputError(
+        fmt::format("{}: expected a finite number {} {} (got '{}')", option, lo_open ? ">" : ">=", lo, text));
   return *v;
 }
 
@@ -83,8 +85,8 @@ double unit_factor(const std::string& column, const Dimension& dimension, const 
     return f;  // strain: a fraction, or percent with _percent
   }
   if (!stated)
-    throw InputError(fmt::format("{} '{}': the column name must end with its unit, {} (e.g. rename the column)",
-                                 option, column, expected));
+    throw InputError(fmt::format("{} '{}': the column name must end with its unit, {} (e.g. rename the column)", option,
+                                 column, expected));
   return f;
 }
 
@@ -101,7 +103,8 @@ void print_fit(const FitResult& f) {
              f.note.empty() ? "" : "\n  note: " + f.note);
 }
 
-std::vector<double> scaled_column(const CsvTable& t, const std::string& name, const Dimension& d, const std::string& option) {
+std::vector<double> scaled_column(const CsvTable& t, const std::string& name, const Dimension& d,
+                                  const std::string& option) {
   std::vector<double> v = t.numbers(name);
   const double s = unit_factor(name, d, option);
   for (std::size_t r = 0; r < v.size(); ++r) {
@@ -138,7 +141,8 @@ AnalysisOptions analysis_options(const AnalyzeArgs& a) {
     o.plateau_lo = lo;
     o.plateau_hi = hi;
   }
-  if (!a.strength_strain.empty()) o.strength_max_strain = number_option(a.strength_strain, "--strength-strain", 0, true);
+  if (!a.strength_strain.empty())
+    o.strength_max_strain = number_option(a.strength_strain, "--strength-strain", 0, true);
   if (!a.tolerance.empty()) o.window_tolerance = number_option(a.tolerance, "--window-tolerance", 0, true);
   if (!a.window_signal.empty()) o.window_signal = a.window_signal;
   if (!a.ke_ie.empty()) o.ke_ie_limit = number_option(a.ke_ie, "--ke-ie-limit", 0, false);
@@ -162,10 +166,15 @@ AnalyzeArgs with_study_options(AnalyzeArgs a, bool quiet = false) {
 void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
   c->add_option("--window", a.window, "linear window LO:HI in strain (default: found automatically)");
   c->add_option("--plateau", a.plateau, "plateau window LO:HI in strain for the yield intersection");
-  c->add_option("--strength-strain", a.strength_strain, "end of the strength window: compression strength = mean stress from strength_plateau_from (0.005) to this strain, the peak reported beside it (default 0.03)");
-  c->add_option("--window-signal", a.window_signal, "curve for the automatic window: volume_average (default) or punch");
+  c->add_option("--strength-strain", a.strength_strain,
+                "end of the strength window: compression strength = mean stress from strength_plateau_from (0.005) to "
+                "this strain, the peak reported beside it (default 0.03)");
+  c->add_option("--window-signal", a.window_signal,
+                "curve for the automatic window: volume_average (default) or punch");
   c->add_option("--window-tolerance", a.tolerance, "automatic window: allowed drop of the end tangent (default 0.10)");
-  c->add_option("--ke-ie-limit", a.ke_ie, "flag runs whose KE/IE exceeds this from the linear window's start; the automatic window starts where KE/IE has settled below it (default 0.05)");
+  c->add_option("--ke-ie-limit", a.ke_ie,
+                "flag runs whose KE/IE exceeds this from the linear window's start; the automatic window starts where "
+                "KE/IE has settled below it (default 0.05)");
   c->add_option("--options", a.options_file, "TOML file with an [analysis] table (docs/deck/analysis.md)");
   c->add_flag("--allow-unfinished", a.allow_unfinished, "analyse runs whose run.json status is not 'finished'");
 }
@@ -227,9 +236,10 @@ void register_analysis(CLI::App& app) {
     fmt::print("from volume averages: M = {:.4g} GPa, K = {:.4g} GPa, G = {:.4g} GPa, E = {:.4g} GPa\n",
                n({"moduli_volume_average", "M_Pa"}) / 1e9, n({"moduli_volume_average", "K_Pa"}) / 1e9,
                n({"moduli_volume_average", "G_Pa"}) / 1e9, n({"moduli_volume_average", "E_Pa"}) / 1e9);
-    fmt::print("strength (plateau mean) = {:.4g} MPa, peak {:.4g} MPa at strain {:.4g}; yield = {:.4g} MPa at strain {:.4g}\n",
-               n({"strength", "strength_Pa"}) / 1e6, n({"strength", "peak_strength_Pa"}) / 1e6, n({"strength", "strain_at_peak"}),
-               n({"strength", "yield_stress_Pa"}) / 1e6, n({"strength", "yield_strain"}));
+    fmt::print(
+        "strength (plateau mean) = {:.4g} MPa, peak {:.4g} MPa at strain {:.4g}; yield = {:.4g} MPa at strain {:.4g}\n",
+        n({"strength", "strength_Pa"}) / 1e6, n({"strength", "peak_strength_Pa"}) / 1e6,
+        n({"strength", "strain_at_peak"}), n({"strength", "yield_stress_Pa"}) / 1e6, n({"strength", "yield_strain"}));
     fmt::print("punch vs volume-average stress: rms difference {:.3g} % of max\n",
                100 * n({"agreement", "punch_vs_minus_syy", "rms_relative"}));
     for (const auto& w : json_array(*json_find(j, "warnings"))) fmt::print("warning: {}\n", json_string(w));
@@ -256,7 +266,8 @@ void register_analysis(CLI::App& app) {
   auto* ft = fit->add_subcommand("temperature", "Eq. 13, sigma_c = sigma0 exp(alpha (1 - T/T0)), both methods");
   ft->add_option("CSV", ta->csv, "CSV file with a header line")->required();
   ft->add_option("--T-col", ta->x, "temperature column (K)")->default_val("T_K");
-  ft->add_option("--strength-col", ta->y, "strength column; unit from its suffix (_Pa, _MPa, _GPa)")->default_val("strength_MPa");
+  ft->add_option("--strength-col", ta->y, "strength column; unit from its suffix (_Pa, _MPa, _GPa)")
+      ->default_val("strength_MPa");
   ft->add_option("--T0", ta->T0, "reference temperature")->default_val("293 K");
   ft->add_option("--confidence", ta->confidence, "confidence level of the intervals")->default_val(0.95);
   ft->add_option("--out", ta->out, "write the fits as JSON");
@@ -279,9 +290,12 @@ void register_analysis(CLI::App& app) {
   auto ca = std::make_shared<FitArgs>();
   auto* fc = fit->add_subcommand("curve", "Eq. 14, sigma_n = A e + B e^n (e in percent), on the plateau window");
   fc->add_option("CSV", ca->csv, "CSV file with a header line (e.g. a history.csv)")->required();
-  fc->add_option("--strain-col", ca->x, "strain column (fraction; '_percent' suffix for percent)")->default_val("strain");
-  fc->add_option("--stress-col", ca->y, "stress column, compression positive; unit from its suffix")->default_val("punch_stress_Pa");
-  fc->add_option("--strength", ca->strength, "sigma_c used to normalise (e.g. '32.8 MPa'); default: max stress in the window");
+  fc->add_option("--strain-col", ca->x, "strain column (fraction; '_percent' suffix for percent)")
+      ->default_val("strain");
+  fc->add_option("--stress-col", ca->y, "stress column, compression positive; unit from its suffix")
+      ->default_val("punch_stress_Pa");
+  fc->add_option("--strength", ca->strength,
+                 "sigma_c used to normalise (e.g. '32.8 MPa'); default: max stress in the window");
   fc->add_option("--window", ca->window, "fitting window LO:HI in percent strain")->default_val("0.5:3");
   fc->add_option("--confidence", ca->confidence, "confidence level of the intervals")->default_val(0.95);
   fc->add_option("--out", ca->out, "write the fit as JSON");
@@ -302,9 +316,10 @@ void register_analysis(CLI::App& app) {
     }
     if (ep.empty()) {
       const auto [mn, mx] = std::minmax_element(e.begin(), e.end());
-      throw InputError(fmt::format("{}: no row has '{}' in the window {} .. {} % strain (the file spans {:.4g} .. {:.4g} %; "
-                                   "a column in percent must be named *_percent)",
-                                   ca->csv, ca->x, lo, hi, e.empty() ? 0.0 : 100 * *mn, e.empty() ? 0.0 : 100 * *mx));
+      throw InputError(
+          fmt::format("{}: no row has '{}' in the window {} .. {} % strain (the file spans {:.4g} .. {:.4g} %; "
+                      "a column in percent must be named *_percent)",
+                      ca->csv, ca->x, lo, hi, e.empty() ? 0.0 : 100 * *mn, e.empty() ? 0.0 : 100 * *mx));
     }
     double sc = 0;
     if (!ca->strength.empty()) {
@@ -313,8 +328,10 @@ void register_analysis(CLI::App& app) {
       for (double x : sp) sc = std::max(sc, x);
     }
     if (!(sc > 0))
-      throw InputError(fmt::format("{}: the largest '{}' in the window is {:.4g} Pa; Eq. 14 needs compression positive "
-                                   "(or give --strength)", ca->csv, ca->y, sc));
+      throw InputError(
+          fmt::format("{}: the largest '{}' in the window is {:.4g} Pa; Eq. 14 needs compression positive "
+                      "(or give --strength)",
+                      ca->csv, ca->y, sc));
     for (auto& x : sp) x /= sc;
     const FitResult f = fit_normalized_curve(ep, sp, ca->confidence);
     fmt::print("normalised by sigma_c = {:.6g} Pa; window {} .. {} % strain\n", sc, lo, hi);
@@ -341,16 +358,19 @@ void register_analysis(CLI::App& app) {
     const CsvTable t = CsvTable::read(da->csv);
     const auto rho = scaled_column(t, da->x, dim::density, "--density-col");
     const double rho0 = quantity_option(da->rho0, dim::density, "--rho0");
-    const double GU = quantity_option(da->GU, dim::pressure, "--GU"), KU = quantity_option(da->KU, dim::pressure, "--KU");
+    const double GU = quantity_option(da->GU, dim::pressure, "--GU"),
+                 KU = quantity_option(da->KU, dim::pressure, "--KU");
     Json j = Json::object();
     if (t.has(da->y)) {
-      const FitResult g = fit_density_law(rho, scaled_column(t, da->y, dim::pressure, "--G-col"), rho0, GU, da->confidence);
+      const FitResult g =
+          fit_density_law(rho, scaled_column(t, da->y, dim::pressure, "--G-col"), rho0, GU, da->confidence);
       fmt::print("G: ");
       print_fit(g);
       j["G"] = g.to_json();
     }
     if (t.has(da->y2)) {
-      const FitResult k = fit_density_law(rho, scaled_column(t, da->y2, dim::pressure, "--K-col"), rho0, KU, da->confidence);
+      const FitResult k =
+          fit_density_law(rho, scaled_column(t, da->y2, dim::pressure, "--K-col"), rho0, KU, da->confidence);
       fmt::print("K: ");
       print_fit(k);
       j["K"] = k.to_json();
@@ -388,7 +408,8 @@ void register_analysis(CLI::App& app) {
   rep->add_option("STUDY_DIR", ra->dir, "finished study directory (study.json, runs/<id>/)")->required();
   rep->add_option("--out", ro->out_dir, "report directory (default STUDY_DIR/report)");
   rep->add_flag("--reuse-analysis", ro->fits.reuse_analysis, "use the runs' existing analysis.json files");
-  rep->add_option("--python", ro->python, "Python interpreter with numpy and matplotlib")->default_val("/usr/bin/python3");
+  rep->add_option("--python", ro->python, "Python interpreter with numpy and matplotlib")
+      ->default_val("/usr/bin/python3");
   add_analysis_flags(rep, *ra);
   auto rsa = std::make_shared<StudyArgs>();
   add_study_flags(rep, *rsa);
@@ -406,9 +427,10 @@ void register_analysis(CLI::App& app) {
                                         {"--options", !a.options_file.empty()},
                                         {"--allow-unfinished", a.allow_unfinished}})
         if (given)
-          throw InputError(fmt::format("report: {} changes the analysis, but --reuse-analysis uses the runs' "
-                                       "analysis.json as they are; drop one of the two",
-                                       flag));
+          throw InputError(
+              fmt::format("report: {} changes the analysis, but --reuse-analysis uses the runs' "
+                          "analysis.json as they are; drop one of the two",
+                          flag));
       ro->fits.analysis = analysis_options(with_study_options(*ra, true));
     } else {
       ro->fits.analysis = analysis_options(with_study_options(*ra));

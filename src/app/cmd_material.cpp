@@ -51,11 +51,11 @@ void run_material(const MaterialOptions& o) {
     load.duration = option_quantity(o.duration, dim::time, "--duration");
     if (!(load.duration > 0.0)) throw InputError(fmt::format("--duration must be > 0 (got {} s)", load.duration));
   }
-  if (o.rate.empty() && o.duration.empty())
-    throw InputError("give --rate (1/s) or --duration (s)");
+  if (o.rate.empty() && o.duration.empty()) throw InputError("give --rate (1/s) or --duration (s)");
   if (!o.rate.empty() && !o.duration.empty())
-    throw InputError("give --rate or --duration, not both: the loading time (step_shear: the hold time) is "
-                     "|strain| / rate");
+    throw InputError(
+        "give --rate or --duration, not both: the loading time (step_shear: the hold time) is "
+        "|strain| / rate");
   load.steps = o.steps;
   const Deck deck = Deck::from_file(o.deck);
   const auto materials = deck.root().optional_table("materials");
@@ -90,7 +90,8 @@ void run_material(const MaterialOptions& o) {
   table->check_unused();  // a misspelt key of this material is an error here as in a run
 
   const auto samples = drive_point(*m, load);
-  fmt::print(stderr, "pbxmpm material: '{}' ({}) at {} K ({}): rho0 = {:.6g} kg/m3, c_L = {:.6g} m/s; {} ({}), {} rows\n",
+  fmt::print(stderr,
+             "pbxmpm material: '{}' ({}) at {} K ({}): rho0 = {:.6g} kg/m3, c_L = {:.6g} m/s; {} ({}), {} rows\n",
              o.material, m->model(), T, from, m->density(), m->initial_wave_speed(), point_path_name(load.path),
              point_strain_meaning(load.path), samples.size());
   if (o.out.empty() || o.out == "-") {
@@ -115,7 +116,9 @@ void register_material(CLI::App& app) {
                 "target strain, tension positive (axial ln F_xx, shear F_xy, or volumetric ln J)")
       ->required();
   c->add_option("--rate", o->rate, "strain rate magnitude, 1/s (number or quantity such as '250 1/s')");
-  c->add_option("--temperature", o->temperature, "temperature (a plain number is K; default: the deck's run.temperature, else the material's reference_temperature, else 293 K)");
+  c->add_option("--temperature", o->temperature,
+                "temperature (a plain number is K; default: the deck's run.temperature, else the material's "
+                "reference_temperature, else 293 K)");
   c->add_option("--duration", o->duration, "loading time (default |strain|/rate); step_shear: hold time, s");
   c->add_option("--steps", o->steps, "number of steps / output times (default 1000)")->check(CLI::Range(1, 10000000));
   c->add_option("--out", o->out, "CSV output file (default: standard output)");

@@ -48,8 +48,7 @@ void run_pack(const PackOptions& o) {
     }
     std::filesystem::create_directories(o.out);
     std::printf("pack: target porosity %.4f (density %.4f g/cm3, TMD %.4f g/cm3), seed %llu\n", spec.porosity,
-                (1 - spec.porosity) * spec.tmd() / 1000, spec.tmd() / 1000,
-                static_cast<unsigned long long>(spec.seed));
+                (1 - spec.porosity) * spec.tmd() / 1000, spec.tmd() / 1000, static_cast<unsigned long long>(spec.seed));
     p = generate_packing(spec);
   }
   write_packing(p, o.out);
@@ -57,11 +56,10 @@ void run_pack(const PackOptions& o) {
   const PackingStats& s = p.stats;
   std::printf("pack: %zu grains (%d coarse, %d fine), porosity %.5f, density %.4f g/cm3, TMD %.4f g/cm3\n",
               p.grains.size(), s.grains_coarse, s.grains_fine, s.porosity, s.density / 1000, s.tmd / 1000);
-  std::printf("pack: TATB:binder mass %.4f:%.4f, area fractions TATB %.4f binder %.4f\n",
-              100 * s.tatb_mass_fraction, 100 * (1 - s.tatb_mass_fraction), s.tatb_area_fraction,
-              s.binder_area_fraction);
-  std::printf("pack: coat %.3f-%.3f um, %d contact colours, %.2f s -> %s/packing.{csv,json,png}\n",
-              s.coat_min * 1e6, s.coat_max * 1e6, s.colours, secs, o.out.c_str());
+  std::printf("pack: TATB:binder mass %.4f:%.4f, area fractions TATB %.4f binder %.4f\n", 100 * s.tatb_mass_fraction,
+              100 * (1 - s.tatb_mass_fraction), s.tatb_area_fraction, s.binder_area_fraction);
+  std::printf("pack: coat %.3f-%.3f um, %d contact colours, %.2f s -> %s/packing.{csv,json,png}\n", s.coat_min * 1e6,
+              s.coat_max * 1e6, s.colours, secs, o.out.c_str());
 }
 
 }  // namespace
@@ -71,8 +69,9 @@ void register_pack(CLI::App& app) {
   auto* cmd = app.add_subcommand("pack", "Generate a mesostructure (coated TATB grains) or import a segmented image");
   cmd->add_option("deck", o->deck, "Deck with a [packing] table")->required()->check(CLI::ExistingFile);
   cmd->add_option("--out", o->out, "Output folder (packing.csv, packing.json, packing.png)");
-  cmd->add_option("--from-image", o->image, "Segmented PNG image; the deck's [packing] table gives pixel_size and "
-                                            "the [packing.legend] colours")
+  cmd->add_option("--from-image", o->image,
+                  "Segmented PNG image; the deck's [packing] table gives pixel_size and "
+                  "the [packing.legend] colours")
       ->check(CLI::ExistingFile);
   cmd->callback([o] { run_pack(*o); });
 }

@@ -29,7 +29,6 @@ struct RunArgs {
   bool quiet = false;
 };
 
-
 // The deck file with --set overrides applied; relative paths in it still resolve beside the file.
 Deck deck_from_file_with(const std::string& file, const std::vector<std::string>& set) {
   std::ifstream in(file);
@@ -67,7 +66,9 @@ void register_run(CLI::App& app) {
   run->add_option("--restart", args->restart,
                   "continue the run saved in this checkpoint, in the checkpoint's folder (its deck, its history.csv)")
       ->check(CLI::ExistingFile);
-  run->add_option("--threads,-t", args->threads, "OpenMP threads (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores)")->check(CLI::Range(1, 1024));
+  run->add_option("--threads,-t", args->threads,
+                  "OpenMP threads (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores)")
+      ->check(CLI::Range(1, 1024));
   run->add_option("--set", args->set,
                   "override a deck key before the run, KEY=VALUE in TOML (e.g. --set 'grid.cell_size=\"10 um\"'); "
                   "repeatable; checked like the deck, and saved in run.json and the checkpoint");
@@ -84,9 +85,10 @@ void register_run(CLI::App& app) {
       if (!args->set.empty())
         throw InputError("pbxmpm run: --set with --restart: the run continues with the deck saved in its checkpoint");
       if (!args->deck.empty())
-        throw InputError(fmt::format("pbxmpm run: give a deck or --restart CHECKPOINT, not both (the run continues "
-                                     "with the deck saved in '{}')",
-                                     args->restart));
+        throw InputError(
+            fmt::format("pbxmpm run: give a deck or --restart CHECKPOINT, not both (the run continues "
+                        "with the deck saved in '{}')",
+                        args->restart));
       ck = read_checkpoint(args->restart);
       // relative paths in the deck (specimen.packing_dir) resolve against the original deck's folder
       deck = Deck::from_string(ck.deck_text, ck.deck_name, std::filesystem::path(ck.deck_name).parent_path().string());
@@ -98,10 +100,11 @@ void register_run(CLI::App& app) {
       if (run->count("--out") > 0) {
         std::error_code e1, e2;
         if (!std::filesystem::equivalent(folder, args->out, e1) || e1 || e2)
-          throw InputError(fmt::format("pbxmpm run: --restart continues the run in the checkpoint's own folder '{}'; "
-                                       "--out '{}' is another folder (copy the whole run folder to continue it "
-                                       "elsewhere)",
-                                       folder, args->out));
+          throw InputError(
+              fmt::format("pbxmpm run: --restart continues the run in the checkpoint's own folder '{}'; "
+                          "--out '{}' is another folder (copy the whole run folder to continue it "
+                          "elsewhere)",
+                          folder, args->out));
       }
       args->out = folder;
     } else if (args->deck.empty()) {
@@ -142,14 +145,16 @@ void register_run(CLI::App& app) {
 
   auto check_file = std::make_shared<std::string>();
   auto check_set = std::make_shared<std::vector<std::string>>();
-  auto* check = app.add_subcommand("check", "Validate a run deck or a study deck (every run's deck) without running it");
+  auto* check =
+      app.add_subcommand("check", "Validate a run deck or a study deck (every run's deck) without running it");
   check->add_option("deck", *check_file, "TOML deck")->required()->check(CLI::ExistingFile);
   check->add_option("--set", *check_set, "override a run deck's key, KEY=VALUE in TOML, as pbxmpm run --set");
   check->callback([check_file, check_set] {
     // a study deck is checked as `pbxmpm study` checks it before its first run: every run's deck
     // built, every specimen packed
     if (Deck::from_file(*check_file).root().has("study")) {
-      if (!check_set->empty()) throw InputError("pbxmpm check: --set applies to run decks (a study sets keys in [study.set])");
+      if (!check_set->empty())
+        throw InputError("pbxmpm check: --set applies to run decks (a study sets keys in [study.set])");
       const StudySpec s = read_study(*check_file);
       const int n = check_study(s);
       std::printf("%s: valid study '%s': %d runs over base deck %s, every run deck builds\n", check_file->c_str(),
@@ -158,13 +163,16 @@ void register_run(CLI::App& app) {
     }
     Deck deck = Deck::from_string("", "");
     Scene<2> scene = load(*check_file, *check_set, deck);
-    auto count = [](std::size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); };
-    std::printf("%s: valid. %s in %s, %s, %s, grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n", check_file->c_str(),
-                count(scene.particles.size(), "particle", "particles").c_str(),
-                count(scene.materials.size(), "material", "materials").c_str(),
-                count(static_cast<std::size_t>(scene.deformable_fields), "deformable field", "deformable fields").c_str(),
-                count(scene.bodies.size(), "rigid body", "rigid bodies").c_str(), scene.grid.n[0], scene.grid.n[1],
-                scene.grid.h, scene.control.end_time);
+    auto count = [](std::size_t n, const char* one, const char* many) {
+      return fmt::format("{} {}", n, n == 1 ? one : many);
+    };
+    std::printf(
+        "%s: valid. %s in %s, %s, %s, grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n", check_file->c_str(),
+        count(scene.particles.size(), "particle", "particles").c_str(),
+        count(scene.materials.size(), "material", "materials").c_str(),
+        count(static_cast<std::size_t>(scene.deformable_fields), "deformable field", "deformable fields").c_str(),
+        count(scene.bodies.size(), "rigid body", "rigid bodies").c_str(), scene.grid.n[0], scene.grid.n[1],
+        scene.grid.h, scene.control.end_time);
   });
 }
 

@@ -23,33 +23,42 @@ void register_study(CLI::App& app) {
     bool no_report = false, quiet = false;
   };
   auto a = std::make_shared<Args>();
-  auto* st = app.add_subcommand("study", "Run a study deck (runs x seeds, MPI-aware, resumable), analyse, fit and report");
+  auto* st =
+      app.add_subcommand("study", "Run a study deck (runs x seeds, MPI-aware, resumable), analyse, fit and report");
   st->add_option("deck", a->deck, "study deck (TOML with a [study] table)")->required()->check(CLI::ExistingFile);
   st->add_option("--out,-o", a->out, "study directory (default: out/<study name>)");
-  st->add_option("--threads,-t", a->threads, "OpenMP threads per run (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores of this rank)")->check(CLI::Range(1, 1024));
+  st->add_option(
+        "--threads,-t", a->threads,
+        "OpenMP threads per run (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores of this rank)")
+      ->check(CLI::Range(1, 1024));
   st->add_option("--only", a->only,
-                 "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run has finished")
+                 "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run "
+                 "has finished")
       ->delimiter(',');
   st->add_option("--checkpoint-every", a->checkpoint_every,
                  "each run writes runs/<id>/checkpoint.h5 every N history rows (0: never); an interrupted run "
                  "continues from it when the study is started again")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
-  st->add_option("--set", a->set,
-                 "override a key of every run deck, KEY=VALUE in TOML (after [study.set]; a key a group varies is refused); "
-                 "repeatable");
+  st->add_option(
+      "--set", a->set,
+      "override a key of every run deck, KEY=VALUE in TOML (after [study.set]; a key a group varies is refused); "
+      "repeatable");
   st->add_flag("--no-report", a->no_report, "skip the report at the end");
   st->add_flag("--quiet,-q", a->quiet, "no per-run progress display");
   st->callback([a, st] {
     if (st->count("--out") > 0 && a->out.empty())
-      throw InputError("--out: an empty folder name (an unset shell variable?); give a folder, or leave --out out for out/<study name>");
+      throw InputError(
+          "--out: an empty folder name (an unset shell variable?); give a folder, or leave --out out for out/<study "
+          "name>");
     StudySpec s = read_study(a->deck);
     // command-line overrides come after the study's [study.set] and before the groups' own keys
     // would: a key a group varies cannot be overridden for all runs
     for (const auto& text : a->set) {
       const DeckOverride ov = parse_override_option(text);
       if (ov.first == "specimen.seed" || ov.first == "packing.seed")
-        throw InputError(fmt::format("--set '{}': a study gives each run its seed (study.seeds or a group's seeds)", ov.first));
+        throw InputError(
+            fmt::format("--set '{}': a study gives each run its seed (study.seeds or a group's seeds)", ov.first));
       for (auto& r : s.runs) {
         // a run's overrides end with its group's key and its seed (study.cpp, read_study)
         if (r.set.size() < 2) throw std::logic_error("a study run without its group key and seed");
@@ -60,9 +69,10 @@ void register_study(CLI::App& app) {
     }
     StudyOptions o;
     if (a->out.empty() && !is_folder_name(s.name))
-      throw InputError(fmt::format("study.name '{}' would name the default output folder out/<name>: give --out, or "
-                                   "a name of letters, digits, '_', '-' and '.'",
-                                   s.name));
+      throw InputError(
+          fmt::format("study.name '{}' would name the default output folder out/<name>: give --out, or "
+                      "a name of letters, digits, '_', '-' and '.'",
+                      s.name));
     o.out_dir = a->out.empty() ? "out/" + s.name : a->out;
     o.threads = a->threads;
     o.report = !a->no_report;
@@ -71,13 +81,18 @@ void register_study(CLI::App& app) {
     o.checkpoint_every = a->checkpoint_every;
     const int failed = run_study(s, o);
     if (failed == kStudyInterrupted)
-      throw Interrupted("study interrupted; run the same command again to continue it from the interrupted run's checkpoint");
-    if (failed == kStudyNotStarted) throw InputError("the study did not start (no run was made): see the messages above");
-    if (failed > 0) throw std::runtime_error(std::to_string(failed) + " run(s) of the study failed; see the messages above and their run.json");
+      throw Interrupted(
+          "study interrupted; run the same command again to continue it from the interrupted run's checkpoint");
+    if (failed == kStudyNotStarted)
+      throw InputError("the study did not start (no run was made): see the messages above");
+    if (failed > 0)
+      throw std::runtime_error(std::to_string(failed) +
+                               " run(s) of the study failed; see the messages above and their run.json");
   });
 
   auto dir = std::make_shared<std::string>();
-  auto* status = app.add_subcommand("status", "Where each run of a study stands (finished, started, checkpoint, not started)");
+  auto* status =
+      app.add_subcommand("status", "Where each run of a study stands (finished, started, checkpoint, not started)");
   status->add_option("STUDY_DIR", *dir, "study directory (study.json, runs/<id>/)")->required();
   status->callback([dir] { std::fputs(format_study_status(study_status(*dir), *dir).c_str(), stdout); });
 }

@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
     if (!known) {
-      std::fprintf(stderr, "pbxmpm: unknown command '%s' (the commands: %s; see pbxmpm --help)\n", argv[1], names.c_str());
+      std::fprintf(stderr, "pbxmpm: unknown command '%s' (the commands: %s; see pbxmpm --help)\n", argv[1],
+                   names.c_str());
       return 2;
     }
   }
@@ -57,13 +58,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "pbxmpm: %s\n", e.what());
     return 130;
   } catch (const std::filesystem::filesystem_error& e) {
-    std::fprintf(stderr, "pbxmpm: error: file system error on '%s': %s (for an output folder: check --out and "
-                         "its permissions)\n",
+    std::fprintf(stderr,
+                 "pbxmpm: error: file system error on '%s': %s (for an output folder: check --out and "
+                 "its permissions)\n",
                  e.path1().string().c_str(), e.code().message().c_str());
     return 1;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "pbxmpm: error: out of memory: the deck asks for more particles, grid or grains than this "
-                         "machine can hold (check the sizes, grid.cell_size and particles_per_cell)\n");
+    std::fprintf(stderr,
+                 "pbxmpm: error: out of memory: the deck asks for more particles, grid or grains than this "
+                 "machine can hold (check the sizes, grid.cell_size and particles_per_cell)\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pbxmpm: error: %s\n", e.what());

@@ -34,13 +34,13 @@ struct VelocityRamp {
 template <int D>
 struct RigidBody {
   std::string name;
-  int field = -1;                      // grid field index of this body
-  std::vector<Vec<D>> x0;              // rigid particle positions at t = 0, m
-  std::vector<Vec<D>> x;               // current positions, m
-  Vec<D> velocity = Vec<D>::Zero();    // final prescribed velocity, m/s
+  int field = -1;                    // grid field index of this body
+  std::vector<Vec<D>> x0;            // rigid particle positions at t = 0, m
+  std::vector<Vec<D>> x;             // current positions, m
+  Vec<D> velocity = Vec<D>::Zero();  // final prescribed velocity, m/s
   VelocityRamp ramp;
-  Vec<D> normal = Vec<D>::Zero();      // unit outward normal (from the body into the specimen)
-  double friction = 0;                 // Coulomb coefficient against the specimen
+  Vec<D> normal = Vec<D>::Zero();  // unit outward normal (from the body into the specimen)
+  double friction = 0;             // Coulomb coefficient against the specimen
   RigidContact contact = RigidContact::unilateral;
   // Position of the body's contact face along `normal` at t = 0 (x . n), m. Contact acts only at
   // nodes at or behind the face: a node a fraction of a cell in front of it belongs to the
@@ -61,8 +61,8 @@ struct RigidBody {
   }
 
   // Accumulated over the current reporting interval (reset by the solver's observer):
-  Vec<D> impulse = Vec<D>::Zero();     // impulse given BY the body TO the specimen, N s (per m)
-  double work = 0;                     // work done by the body on the specimen, J (per m)
+  Vec<D> impulse = Vec<D>::Zero();  // impulse given BY the body TO the specimen, N s (per m)
+  double work = 0;                  // work done by the body on the specimen, J (per m)
 };
 
 }  // namespace pbx

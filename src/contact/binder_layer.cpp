@@ -39,7 +39,8 @@ void LayerLaw::at_time(double t) {
 LayerLaw read_layer_law(const DeckTable& t) {
   LayerLaw law;
   law.friction = t.number("friction");
-  if (!(law.friction >= 0.0)) t.fail("friction", fmt::format("friction coefficient must be >= 0, got {}", law.friction));
+  if (!(law.friction >= 0.0))
+    t.fail("friction", fmt::format("friction coefficient must be >= 0, got {}", law.friction));
   std::string gap_word;
   try {
     if (t.has("bond_gap")) gap_word = t.string("bond_gap");
@@ -51,21 +52,25 @@ LayerLaw read_layer_law(const DeckTable& t) {
     law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
   if (t.has("film")) {
     const std::string film = t.string("film");
-    if (film != "uniform" && film != "integrated") t.fail("film", fmt::format("must be 'uniform' or 'integrated', got '{}'", film));
+    if (film != "uniform" && film != "integrated")
+      t.fail("film", fmt::format("must be 'uniform' or 'integrated', got '{}'", film));
     law.integrated = film == "integrated";
   }
   if (law.integrated && t.has("bond_gap"))
-    t.fail("bond_gap", "does not apply with film = \"integrated\": its springs act on the band of one cell that the grid lets "
-                       "two bodies share, and its film reaches film_extent x t");
+    t.fail("bond_gap",
+           "does not apply with film = \"integrated\": its springs act on the band of one cell that the grid lets "
+           "two bodies share, and its film reaches film_extent x t");
   if (t.has("film_extent")) {
     if (!law.integrated) t.fail("film_extent", "applies only with film = \"integrated\"");
     law.film_extent = t.number("film_extent");
     if (!(law.film_extent >= 0.0 && law.film_extent <= 100.0))
-      t.fail("film_extent", fmt::format("must lie in [0, 100] (a multiple of the layer thickness), got {}", law.film_extent));
+      t.fail("film_extent",
+             fmt::format("must lie in [0, 100] (a multiple of the layer thickness), got {}", law.film_extent));
   }
   if (t.has("shear_cap")) {
     const std::string cap = t.string("shear_cap");
-    if (cap != "coulomb" && cap != "none") t.fail("shear_cap", fmt::format("must be 'coulomb' or 'none', got '{}'", cap));
+    if (cap != "coulomb" && cap != "none")
+      t.fail("shear_cap", fmt::format("must be 'coulomb' or 'none', got '{}'", cap));
     law.shear_cap = cap == "coulomb";
   }
   if (t.has("flow_stress") && t.has("flow_factor"))
@@ -74,15 +79,18 @@ LayerLaw read_layer_law(const DeckTable& t) {
   if (t.has("flow_factor")) {
     law.flow_factor = t.number("flow_factor");
     if (!(law.flow_factor > 0.0 && std::isfinite(law.flow_factor)))
-      t.fail("flow_factor", fmt::format("must be > 0 (the film's flow pressure over the binder's secant shear modulus), got {}",
-                                        law.flow_factor));
+      t.fail("flow_factor",
+             fmt::format("must be > 0 (the film's flow pressure over the binder's secant shear modulus), got {}",
+                         law.flow_factor));
   }
   const bool direct = t.has("normal_stiffness") || t.has("shear_stiffness");
   if (direct) {
     for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure", "film", "film_extent"})
       if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
-    if (law.bond_within_thickness) t.fail("bond_gap", "\"thickness\" needs a layer thickness: give binder and thickness");
-    if (law.flow_factor > 0.0) t.fail("flow_factor", "needs the binder's shear modulus: give binder and thickness (or flow_stress)");
+    if (law.bond_within_thickness)
+      t.fail("bond_gap", "\"thickness\" needs a layer thickness: give binder and thickness");
+    if (law.flow_factor > 0.0)
+      t.fail("flow_factor", "needs the binder's shear modulus: give binder and thickness (or flow_stress)");
     law.time = {0.0};
     law.normal = {t.positive("normal_stiffness", kStiffnessPerArea)};
     law.shear = {t.non_negative("shear_stiffness", kStiffnessPerArea)};
@@ -104,7 +112,8 @@ LayerLaw read_layer_law(const DeckTable& t) {
     law.thickness = t.positive("thickness", dim::length);
   }
   law.closure = t.number("closure", 1.0);
-  if (!(law.closure > 0.0 && law.closure <= 1.0)) t.fail("closure", fmt::format("must lie in (0, 1], got {}", law.closure));
+  if (!(law.closure > 0.0 && law.closure <= 1.0))
+    t.fail("closure", fmt::format("must lie in (0, 1], got {}", law.closure));
   if (t.has("load_time")) {
     std::string word;
     try {
@@ -136,7 +145,8 @@ void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, con
     const double M = axial[k].stress.xx / axial[k].strain, G = shear[k].stress.xy / shear[k].strain;
     if (!(M > 0.0 && G >= 0.0 && std::isfinite(M) && std::isfinite(G)))
       where.fail("binder", fmt::format("material '{}' gives no usable layer moduli at t = {:.4g} s (M = {:.4g} Pa, "
-                                       "G = {:.4g} Pa)", law.binder, axial[k].time, M, G));
+                                       "G = {:.4g} Pa)",
+                                       law.binder, axial[k].time, M, G));
     // the first sample stands for t -> 0 (the instantaneous moduli, to within one probe step)
     law.time.push_back(k == 1 ? 0.0 : axial[k].time);
     law.normal.push_back(M);

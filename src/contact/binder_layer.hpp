@@ -23,13 +23,13 @@ struct LayerLaw {
   // with normal_stiffness/shear_stiffness, D_n, D_t in Pa/m (the particles then carry 1).
   // One entry = constant.
   std::vector<double> time, normal, shear;
-  double friction = 0;       // Coulomb coefficient: the shear cap on the layer (Eq. 7, S_a = 0) and
-                             // the law where the layer does not act
-  double thickness = 0;      // t, m: one thickness for every contact (0: from the coats, or stiffnesses given)
-  bool from_coats = false;   // t of a contact = coat_i + coat_j of its two grains (packed specimens)
-  double coat_scale = 1.0;   // t = coat_scale (coat_i + coat_j) with from_coats
-  double closure = 1.0;      // the layer is squeezed out when the normal closure exceeds closure * t
-  bool shear_cap = true;     // layer shear traction <= friction x compressive normal traction (Eq. 7)
+  double friction = 0;      // Coulomb coefficient: the shear cap on the layer (Eq. 7, S_a = 0) and
+                            // the law where the layer does not act
+  double thickness = 0;     // t, m: one thickness for every contact (0: from the coats, or stiffnesses given)
+  bool from_coats = false;  // t of a contact = coat_i + coat_j of its two grains (packed specimens)
+  double coat_scale = 1.0;  // t = coat_scale (coat_i + coat_j) with from_coats
+  double closure = 1.0;     // the layer is squeezed out when the normal closure exceeds closure * t
+  bool shear_cap = true;    // layer shear traction <= friction x compressive normal traction (Eq. 7)
   // Film flow (issue 23; a calibration, not the paper's law): the layer's compressive normal
   // traction is capped at flow_stress (Pa), or at flow_factor x the binder's current secant shear
   // modulus G_b (the one the shear spring uses), so the cap follows the binder's temperature and
@@ -43,7 +43,7 @@ struct LayerLaw {
   bool flows() const { return flow_stress > 0.0 || flow_factor > 0.0; }
   // the cap on the compressive normal traction now, Pa (after at_time)
   double flow_cap() const { return flow_stress > 0.0 ? flow_stress : flow_factor * kt; }
-  double bond_gap = 0;       // grains whose particles come this close (beyond touching) are bonded, m
+  double bond_gap = 0;                 // grains whose particles come this close (beyond touching) are bonded, m
   bool bond_within_thickness = false;  // bond_gap = "thickness": bonded where the gap is below the pair's t
   // film = "integrated": each contact (a pair of bodies) gets the stiffness of its whole film,
   // M_b int dA / (t + g) over the particles of one side whose gap g to the other body is below
@@ -52,8 +52,8 @@ struct LayerLaw {
   // lets the two sides share: the spring's total no longer depends on how wide that band is.
   bool integrated = false;
   double film_extent = 4.0;
-  std::string binder;        // material whose moduli make D_n, D_t ("" when given directly)
-  double load_time = 0;      // s: secant over this fixed time; 0 = over the elapsed run time
+  std::string binder;    // material whose moduli make D_n, D_t ("" when given directly)
+  double load_time = 0;  // s: secant over this fixed time; 0 = over the elapsed run time
   // Current values (at_time): multiplied by the node's mean 1/t, the stiffnesses per unit area.
   double kn = 0, kt = 0;
 

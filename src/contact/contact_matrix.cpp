@@ -17,11 +17,16 @@ bool ContactMatrix::all_weld() const {
 
 const char* to_string(ContactLaw law) {
   switch (law) {
-    case ContactLaw::weld: return "weld";
-    case ContactLaw::frictionless: return "frictionless";
-    case ContactLaw::coulomb: return "coulomb";
-    case ContactLaw::adhesion: return "adhesion";
-    case ContactLaw::binder_layer: return "binder_layer";
+    case ContactLaw::weld:
+      return "weld";
+    case ContactLaw::frictionless:
+      return "frictionless";
+    case ContactLaw::coulomb:
+      return "coulomb";
+    case ContactLaw::adhesion:
+      return "adhesion";
+    case ContactLaw::binder_layer:
+      return "binder_layer";
   }
   return "?";
 }
@@ -33,16 +38,22 @@ namespace {
 PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<std::string> def) {
   PairLaw p;
   const std::string name = t.string(law_key, std::move(def));
-  if (name == "weld") p.law = ContactLaw::weld;
-  else if (name == "frictionless") p.law = ContactLaw::frictionless;
-  else if (name == "coulomb") p.law = ContactLaw::coulomb;
-  else if (name == "adhesion") p.law = ContactLaw::adhesion;
+  if (name == "weld")
+    p.law = ContactLaw::weld;
+  else if (name == "frictionless")
+    p.law = ContactLaw::frictionless;
+  else if (name == "coulomb")
+    p.law = ContactLaw::coulomb;
+  else if (name == "adhesion")
+    p.law = ContactLaw::adhesion;
   else if (name == "binder_layer" && law_key == "law") {
     p.law = ContactLaw::binder_layer;  // its keys: read_layer_law
     return p;
   } else if (name == "binder_layer")
     t.fail(law_key, "binder_layer is a law for one pair of materials: give it in a [[contact.pair]] entry");
-  else t.fail(law_key, fmt::format("unknown contact law '{}' (weld, frictionless, coulomb, adhesion, binder_layer)", name));
+  else
+    t.fail(law_key,
+           fmt::format("unknown contact law '{}' (weld, frictionless, coulomb, adhesion, binder_layer)", name));
 
   if (p.law == ContactLaw::coulomb || p.law == ContactLaw::adhesion) {
     p.friction = t.number("friction");
@@ -72,10 +83,14 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
 
   const PairLaw def = read_law(t, "default", std::string("weld"));
   const std::string normal = t.string("normals", std::string("dominant"));
-  if (normal == "dominant") cm.normal = ContactNormal::dominant;
-  else if (normal == "average") cm.normal = ContactNormal::average;
-  else if (normal == "own") cm.normal = ContactNormal::own;
-  else t.fail("normals", fmt::format("unknown normal option '{}' (dominant, average, own)", normal));
+  if (normal == "dominant")
+    cm.normal = ContactNormal::dominant;
+  else if (normal == "average")
+    cm.normal = ContactNormal::average;
+  else if (normal == "own")
+    cm.normal = ContactNormal::own;
+  else
+    t.fail("normals", fmt::format("unknown normal option '{}' (dominant, average, own)", normal));
   cm.position_cutoff = t.number("position_check", 0.0);
   if (!(cm.position_cutoff >= 0.0)) t.fail("position_check", "must be >= 0 cells (0 switches the check off)");
   // Two touching bodies put their mass centres at a node about 2/3 of a cell apart (linear hat,

@@ -30,12 +30,12 @@ struct PairLaw {
 };
 
 struct ContactMatrix {
-  int fields = 0;                  // deformable fields covered
-  std::vector<PairLaw> pair;       // fields x fields, symmetric
-  std::vector<int> field_material; // material index of each field's particles (-1: mixed)
+  int fields = 0;                   // deformable fields covered
+  std::vector<PairLaw> pair;        // fields x fields, symmetric
+  std::vector<int> field_material;  // material index of each field's particles (-1: mixed)
   ContactNormal normal = ContactNormal::dominant;
-  double position_cutoff = 0;      // displacement check, cells; 0 = off
-  std::vector<LayerLaw> layers;    // the binder_layer laws of the [[contact.pair]] entries
+  double position_cutoff = 0;    // displacement check, cells; 0 = off
+  std::vector<LayerLaw> layers;  // the binder_layer laws of the [[contact.pair]] entries
 
   const PairLaw& operator()(int a, int b) const {
     return pair[static_cast<std::size_t>(a) * static_cast<std::size_t>(fields) + static_cast<std::size_t>(b)];

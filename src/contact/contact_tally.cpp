@@ -13,7 +13,8 @@ std::pair<int, int> materials_of(const ContactMatrix& cm, int a, int b) {
 }
 }  // namespace
 
-std::vector<MaterialPair> contact_material_pairs(const ContactMatrix& cm, const std::vector<std::string>& material_names) {
+std::vector<MaterialPair> contact_material_pairs(const ContactMatrix& cm,
+                                                 const std::vector<std::string>& material_names) {
   std::vector<MaterialPair> out;
   const int nm = static_cast<int>(material_names.size());
   for (int m1 = 0; m1 < nm; ++m1)
@@ -24,7 +25,9 @@ std::vector<MaterialPair> contact_material_pairs(const ContactMatrix& cm, const 
           active = materials_of(cm, a, b) == std::pair(m1, m2) && cm(a, b).law != ContactLaw::weld;
         }
       if (active)
-        out.push_back({m1, m2, material_names[static_cast<std::size_t>(m1)] + "_" + material_names[static_cast<std::size_t>(m2)]});
+        out.push_back(
+            {m1, m2,
+             material_names[static_cast<std::size_t>(m1)] + "_" + material_names[static_cast<std::size_t>(m2)]});
     }
   return out;
 }

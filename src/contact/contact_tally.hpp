@@ -57,7 +57,8 @@ struct MaterialPair {
 
 // The material pairs that get history columns: every pair of materials with at least one pair of
 // fields under a non-weld law (fields that mix materials are not attributed).
-std::vector<MaterialPair> contact_material_pairs(const ContactMatrix& cm, const std::vector<std::string>& material_names);
+std::vector<MaterialPair> contact_material_pairs(const ContactMatrix& cm,
+                                                 const std::vector<std::string>& material_names);
 
 // Sums a field tally into one material pair: normal and shear magnitudes, and the net impulse on
 // `first`'s fields from `second`'s (meaningful only when first != second).

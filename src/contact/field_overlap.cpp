@@ -15,7 +15,8 @@ constexpr long kMaxPixels = 1L << 26;
 }  // namespace
 
 FieldOverlap::FieldOverlap(const Grid<2>& g, double pixel) : pixel_(pixel), origin_(g.origin) {
-  if (!(pixel > 0) || !std::isfinite(pixel)) throw InputError(fmt::format("field overlap: pixel {} m must be > 0", pixel));
+  if (!(pixel > 0) || !std::isfinite(pixel))
+    throw InputError(fmt::format("field overlap: pixel {} m must be > 0", pixel));
   const double wx = g.h * static_cast<double>(g.n[0] - 1), wy = g.h * static_cast<double>(g.n[1] - 1);
   while (std::ceil(wx / pixel_) * std::ceil(wy / pixel_) > static_cast<double>(kMaxPixels)) pixel_ *= 2.0;
   nx_ = static_cast<long>(std::ceil(wx / pixel_));
@@ -65,8 +66,10 @@ double FieldOverlap::area(const Particles<2>& P) {
         const double a = G(0, 0) * dx + G(0, 1) * dy, b = G(1, 0) * dx + G(1, 1) * dy;
         if (a < -0.5 || a >= 0.5 || b < -0.5 || b >= 0.5) continue;
         const std::int32_t o = row[i];
-        if (o == -1) row[i] = f;
-        else if (o >= 0 && o != f) row[i] = -2, ++shared;
+        if (o == -1)
+          row[i] = f;
+        else if (o >= 0 && o != f)
+          row[i] = -2, ++shared;
       }
     }
   }

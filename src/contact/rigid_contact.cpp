@@ -12,8 +12,7 @@ template <int D>
 struct BodySums {
   std::vector<Vec<D>> impulse;
   std::vector<double> work, friction;
-  explicit BodySums(std::size_t nb = 0)
-      : impulse(nb, Vec<D>::Zero()), work(nb, 0.0), friction(nb, 0.0) {}
+  explicit BodySums(std::size_t nb = 0) : impulse(nb, Vec<D>::Zero()), work(nb, 0.0), friction(nb, 0.0) {}
   BodySums& operator+=(const BodySums& o) {
     for (std::size_t b = 0; b < impulse.size(); ++b) {
       impulse[b] += o.impulse[b];
@@ -26,8 +25,8 @@ struct BodySums {
 }  // namespace
 
 template <int D>
-void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t,
-                   double mass_eps, const std::vector<long>& body_nodes, RigidContactResult<D>& out) {
+void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t, double mass_eps,
+                   const std::vector<long>& body_nodes, RigidContactResult<D>& out) {
   const long nn = grid.nodes();
   const std::size_t nb = bodies.size();
   std::vector<Vec<D>> vb(nb);
@@ -37,62 +36,68 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
   for (std::size_t b = 0; b < nb; ++b) {
     vb[b] = bodies[b].velocity_at(t);
     face[b] = bodies[b].face_at(t) + 1e-9 * grid.h;
-    presence[b] = grid.presence.data() + static_cast<std::size_t>(bodies[b].field - grid.deformable) * static_cast<std::size_t>(nn);
+    presence[b] = grid.presence.data() +
+                  static_cast<std::size_t>(bodies[b].field - grid.deformable) * static_cast<std::size_t>(nn);
   }
 
-  BodySums<D> sums = ordered_reduce(nn, BodySums<D>(nb), [&](long begin, long end) {
-    BodySums<D> s(nb);
-    const auto first = std::lower_bound(body_nodes.begin(), body_nodes.end(), begin);
-    const auto last = std::lower_bound(first, body_nodes.end(), end);
-    for (auto it = first; it != last; ++it) {
-      const long i = *it;
-      for (std::size_t b = 0; b < nb; ++b) {
-        if (presence[b][i] <= 0.0) continue;
-        const Vec<D>& n = bodies[b].normal;
-        const double xn = grid.position(i).dot(n);
-        const bool behind = xn <= face[b];
-        const double reach = bodies[b].cutoff * grid.h;
-        for (int f = 0; f < deformable; ++f) {
-          const long k = grid.at(f, i);
-          const double m = grid.mass[k];
-          if (m <= mass_eps) continue;
-          if (!behind && (grid.origin + grid.moff[k] / m).dot(n) - face[b] > reach) continue;
-          const Vec<D> vrel = grid.mom[k] / m - vb[b];
-          Vec<D> dp;
-          double fw = 0;
-          if (bodies[b].contact == RigidContact::stick) {
-            dp = -m * vrel;
-          } else {
-            const double vn = vrel.dot(n);
-            if (vn >= 0.0) continue;  // separating or sliding along: free
-            const Vec<D> vt = vrel - vn * n;
-            const double vt_norm = vt.norm();
-            dp = -m * vn * n;
-            if (bodies[b].friction > 0 && vt_norm > 0) {
-              const double cap = bodies[b].friction * (-vn);
-              const double scale = std::min(1.0, cap / vt_norm);
-              dp -= m * scale * vt;
-              // Energy dissipated by sliding: the friction impulse m cap times the mean of the slip
-              // speeds before (vt_norm) and after (vt_norm - cap) it, i.e. exactly the kinetic
-              // energy the tangential impulse removes at the node.
-              if (scale < 1.0) fw = m * cap * (vt_norm - 0.5 * cap);
+  BodySums<D> sums = ordered_reduce(
+      nn, BodySums<D>(nb),
+      [&](long begin, long end) {
+        BodySums<D> s(nb);
+        const auto first = std::lower_bound(body_nodes.begin(), body_nodes.end(), begin);
+        const auto last = std::lower_bound(first, body_nodes.end(), end);
+        for (auto it = first; it != last; ++it) {
+          const long i = *it;
+          for (std::size_t b = 0; b < nb; ++b) {
+            if (presence[b][i] <= 0.0) continue;
+            const Vec<D>& n = bodies[b].normal;
+            const double xn = grid.position(i).dot(n);
+            const bool behind = xn <= face[b];
+            const double reach = bodies[b].cutoff * grid.h;
+            for (int f = 0; f < deformable; ++f) {
+              const long k = grid.at(f, i);
+              const double m = grid.mass[k];
+              if (m <= mass_eps) continue;
+              if (!behind && (grid.origin + grid.moff[k] / m).dot(n) - face[b] > reach) continue;
+              const Vec<D> vrel = grid.mom[k] / m - vb[b];
+              Vec<D> dp;
+              double fw = 0;
+              if (bodies[b].contact == RigidContact::stick) {
+                dp = -m * vrel;
+              } else {
+                const double vn = vrel.dot(n);
+                if (vn >= 0.0) continue;  // separating or sliding along: free
+                const Vec<D> vt = vrel - vn * n;
+                const double vt_norm = vt.norm();
+                dp = -m * vn * n;
+                if (bodies[b].friction > 0 && vt_norm > 0) {
+                  const double cap = bodies[b].friction * (-vn);
+                  const double scale = std::min(1.0, cap / vt_norm);
+                  dp -= m * scale * vt;
+                  // Energy dissipated by sliding: the friction impulse m cap times the mean of the slip
+                  // speeds before (vt_norm) and after (vt_norm - cap) it, i.e. exactly the kinetic
+                  // energy the tangential impulse removes at the node.
+                  if (scale < 1.0) fw = m * cap * (vt_norm - 0.5 * cap);
+                }
+              }
+              grid.mom[k] += dp;
+              s.impulse[b] += dp;
+              s.work[b] += dp.dot(vb[b]);
+              s.friction[b] += fw;
             }
           }
-          grid.mom[k] += dp;
-          s.impulse[b] += dp;
-          s.work[b] += dp.dot(vb[b]);
-          s.friction[b] += fw;
         }
-      }
-    }
-    return s;
-  }, 1024);
+        return s;
+      },
+      1024);
   out.impulse = std::move(sums.impulse);
   out.work = std::move(sums.work);
   out.friction_work = std::move(sums.friction);
 }
 
-template void rigid_contact<2>(Grid<2>&, std::vector<RigidBody<2>>&, int, double, double, const std::vector<long>&, RigidContactResult<2>&);
-template void rigid_contact<3>(Grid<3>&, std::vector<RigidBody<3>>&, int, double, double, const std::vector<long>&, RigidContactResult<3>&);
+template void rigid_contact<2>(Grid<2>&, std::vector<RigidBody<2>>&, int, double, double, const std::vector<long>&,
+                               RigidContactResult<2>&);
+template void rigid_contact<3>(Grid<3>&, std::vector<RigidBody<3>>&, int, double, double, const std::vector<long>&,
+                               RigidContactResult<3>&);
 
 }  // namespace pbx

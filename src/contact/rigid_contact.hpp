@@ -29,7 +29,7 @@ struct RigidContactResult {
 // visited. The impulse sums are taken over fixed blocks of nodes in node order, so they do not
 // depend on the list or the thread count.
 template <int D>
-void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t,
-                   double mass_eps, const std::vector<long>& body_nodes, RigidContactResult<D>& out);
+void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t, double mass_eps,
+                   const std::vector<long>& body_nodes, RigidContactResult<D>& out);
 
 }  // namespace pbx

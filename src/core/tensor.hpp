@@ -5,8 +5,10 @@
 
 namespace pbx {
 
-template <int D> using Vec = Eigen::Matrix<double, D, 1>;
-template <int D> using Mat = Eigen::Matrix<double, D, D>;
+template <int D>
+using Vec = Eigen::Matrix<double, D, 1>;
+template <int D>
+using Mat = Eigen::Matrix<double, D, D>;
 using Mat3 = Eigen::Matrix3d;
 using Vec3 = Eigen::Vector3d;
 
@@ -15,8 +17,7 @@ struct Sym3 {
   double xx = 0, yy = 0, zz = 0, xy = 0, yz = 0, zx = 0;
 
   static Sym3 from(const Mat3& m) {
-    return {m(0, 0), m(1, 1), m(2, 2), 0.5 * (m(0, 1) + m(1, 0)), 0.5 * (m(1, 2) + m(2, 1)),
-            0.5 * (m(2, 0) + m(0, 2))};
+    return {m(0, 0), m(1, 1), m(2, 2), 0.5 * (m(0, 1) + m(1, 0)), 0.5 * (m(1, 2) + m(2, 1)), 0.5 * (m(2, 0) + m(0, 2))};
   }
   Mat3 mat() const {
     Mat3 m;
@@ -40,11 +41,21 @@ struct Sym3 {
     return std::sqrt(1.5 * s.ddot(s));
   }
   Sym3& operator+=(const Sym3& b) {
-    xx += b.xx; yy += b.yy; zz += b.zz; xy += b.xy; yz += b.yz; zx += b.zx;
+    xx += b.xx;
+    yy += b.yy;
+    zz += b.zz;
+    xy += b.xy;
+    yz += b.yz;
+    zx += b.zx;
     return *this;
   }
   Sym3& operator*=(double a) {
-    xx *= a; yy *= a; zz *= a; xy *= a; yz *= a; zx *= a;
+    xx *= a;
+    yy *= a;
+    zz *= a;
+    xy *= a;
+    yz *= a;
+    zx *= a;
     return *this;
   }
   friend Sym3 operator+(Sym3 a, const Sym3& b) { return a += b; }
@@ -56,7 +67,8 @@ struct Sym3 {
 };
 
 // Zero-padded 3x3 copy of a DxD tensor (plane strain: the z row and column are zero).
-template <int D> inline Mat3 embed3(const Mat<D>& a) {
+template <int D>
+inline Mat3 embed3(const Mat<D>& a) {
   if constexpr (D == 3) {
     return a;
   } else {

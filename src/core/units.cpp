@@ -20,19 +20,30 @@ struct UnitDef {
 
 const std::map<std::string, UnitDef, std::less<>>& unit_table() {
   static const std::map<std::string, UnitDef, std::less<>> t = {
-      {"m", {1.0, dim::length}},        {"cm", {1e-2, dim::length}},
-      {"mm", {1e-3, dim::length}},      {"um", {1e-6, dim::length}},
-      {"\xC2\xB5m", {1e-6, dim::length}}, {"nm", {1e-9, dim::length}},
-      {"km", {1e3, dim::length}},       {"kg", {1.0, dim::mass}},
-      {"g", {1e-3, dim::mass}},         {"mg", {1e-6, dim::mass}},
-      {"s", {1.0, dim::time}},          {"ms", {1e-3, dim::time}},
-      {"us", {1e-6, dim::time}},        {"\xC2\xB5s", {1e-6, dim::time}},
-      {"ns", {1e-9, dim::time}},        {"K", {1.0, dim::temperature}},
+      {"m", {1.0, dim::length}},
+      {"cm", {1e-2, dim::length}},
+      {"mm", {1e-3, dim::length}},
+      {"um", {1e-6, dim::length}},
+      {"\xC2\xB5m", {1e-6, dim::length}},
+      {"nm", {1e-9, dim::length}},
+      {"km", {1e3, dim::length}},
+      {"kg", {1.0, dim::mass}},
+      {"g", {1e-3, dim::mass}},
+      {"mg", {1e-6, dim::mass}},
+      {"s", {1.0, dim::time}},
+      {"ms", {1e-3, dim::time}},
+      {"us", {1e-6, dim::time}},
+      {"\xC2\xB5s", {1e-6, dim::time}},
+      {"ns", {1e-9, dim::time}},
+      {"K", {1.0, dim::temperature}},
       {"mol", {1.0, Dimension{{0, 0, 0, 0, 1}}}},
-      {"Pa", {1.0, dim::pressure}},     {"kPa", {1e3, dim::pressure}},
-      {"MPa", {1e6, dim::pressure}},    {"GPa", {1e9, dim::pressure}},
+      {"Pa", {1.0, dim::pressure}},
+      {"kPa", {1e3, dim::pressure}},
+      {"MPa", {1e6, dim::pressure}},
+      {"GPa", {1e9, dim::pressure}},
       {"N", {1.0, Dimension{{1, 1, -2, 0, 0}}}},
-      {"J", {1.0, dim::energy}},        {"kJ", {1e3, dim::energy}},
+      {"J", {1.0, dim::energy}},
+      {"kJ", {1e3, dim::energy}},
       {"Hz", {1.0, dim::rate}},
   };
   return t;
@@ -95,8 +106,8 @@ Quantity parse_quantity(std::string_view text) {
     }
     // unit name: letters (and the UTF-8 micro sign)
     std::size_t start = i;
-    while (i < text.size() && (std::isalpha(static_cast<unsigned char>(text[i])) ||
-                               static_cast<unsigned char>(text[i]) >= 0x80))
+    while (i < text.size() &&
+           (std::isalpha(static_cast<unsigned char>(text[i])) || static_cast<unsigned char>(text[i]) >= 0x80))
       ++i;
     if (start == i) {
       // "1/s" style numerator "1"
@@ -134,8 +145,8 @@ double to_si(std::string_view text, const Dimension& expected, std::string_view 
     throw InputError(fmt::format("{}: {}", what, e.what()));
   }
   if (!(q.dimension == expected))
-    throw InputError(fmt::format("{}: '{}' has units of {}, expected {}", what, text,
-                                 q.dimension.si_unit(), expected.si_unit()));
+    throw InputError(
+        fmt::format("{}: '{}' has units of {}, expected {}", what, text, q.dimension.si_unit(), expected.si_unit()));
   if (!std::isfinite(q.value))
     throw InputError(fmt::format("{}: '{}' overflows when converted to SI units ({})", what, text, expected.si_unit()));
   return q.value;

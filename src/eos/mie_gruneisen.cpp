@@ -8,8 +8,8 @@
 namespace pbx {
 
 std::vector<std::string> MieGruneisenEos::keys() {
-  return {"sound_speed",      "hugoniot_s1",   "hugoniot_s2", "hugoniot_s3",
-          "gruneisen_gamma0", "gruneisen_a",   "dissipation_to_energy"};
+  return {"sound_speed",      "hugoniot_s1", "hugoniot_s2",          "hugoniot_s3",
+          "gruneisen_gamma0", "gruneisen_a", "dissipation_to_energy"};
 }
 
 MieGruneisenEos MieGruneisenEos::from_deck(const DeckTable& t, const SolidSetup& s) {
@@ -31,9 +31,10 @@ MieGruneisenEos::MieGruneisenEos(const Params& p, std::string material)
     : p_(p), rho0c2_(p.rho0 * p.c * p.c), material_(std::move(material)) {}
 
 void MieGruneisenEos::beyond_fit(double mu) const {
-  throw InstabilityError(fmt::format(
-      "material '{}': Mie-Grueneisen compression mu = {:.4g} is beyond the limit of the Hugoniot fit "
-      "(denominator <= 0)", material_, mu));
+  throw InstabilityError(
+      fmt::format("material '{}': Mie-Grueneisen compression mu = {:.4g} is beyond the limit of the Hugoniot fit "
+                  "(denominator <= 0)",
+                  material_, mu));
 }
 
 std::string MieGruneisenEos::failure_reason(double J) const {
@@ -42,9 +43,10 @@ std::string MieGruneisenEos::failure_reason(double J) const {
   double A, dA;
   cold_with_slope(mu, J, A, dA);
   if (!std::isnan(A)) return {};
-  return fmt::format("compression mu = rho/rho0 - 1 = {:.4g} beyond the limit of the Mie-Grueneisen Hugoniot fit "
-                     "(denominator <= 0; for s2 = s3 = 0 at mu = 1/(s1 - 1) = {:.4g})",
-                     mu, 1.0 / (p_.s1 - 1.0));
+  return fmt::format(
+      "compression mu = rho/rho0 - 1 = {:.4g} beyond the limit of the Mie-Grueneisen Hugoniot fit "
+      "(denominator <= 0; for s2 = s3 = 0 at mu = 1/(s1 - 1) = {:.4g})",
+      mu, 1.0 / (p_.s1 - 1.0));
 }
 
 }  // namespace pbx

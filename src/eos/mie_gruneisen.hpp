@@ -22,11 +22,11 @@ class DeckTable;
 class MieGruneisenEos {
  public:
   struct Params {
-    double rho0 = 0;    // kg/m^3 (stress-free density at the run temperature)
-    double c = 0;       // m/s, bulk sound speed (Us intercept)
+    double rho0 = 0;  // kg/m^3 (stress-free density at the run temperature)
+    double c = 0;     // m/s, bulk sound speed (Us intercept)
     double s1 = 0, s2 = 0, s3 = 0;
-    double gamma0 = 0;  // Grueneisen gamma
-    double a = 0;       // first-order volume correction of gamma
+    double gamma0 = 0;                  // Grueneisen gamma
+    double a = 0;                       // first-order volume correction of gamma
     bool dissipation_to_energy = true;  // add the deviatoric law's dissipation to E
   };
   static constexpr const char* name = "mie_gruneisen";
@@ -35,9 +35,7 @@ class MieGruneisenEos {
   MieGruneisenEos(const Params& p, std::string material);
 
   int history_size() const { return 3; }
-  std::vector<std::string> history_names() const {
-    return {"eos_energy_J_m3", "eos_volume_ratio", "eos_pressure_Pa"};
-  }
+  std::vector<std::string> history_names() const { return {"eos_energy_J_m3", "eos_volume_ratio", "eos_pressure_Pa"}; }
   void init_history(double* h) const { h[0] = 0.0, h[1] = 1.0, h[2] = 0.0; }
   double initial_bulk_modulus() const { return rho0c2_; }
   const Params& params() const { return p_; }

@@ -37,9 +37,7 @@ class TaitEos {
     return {B_ * (e - 1.0), J * K0_ * e};
   }
   // K0(T) from the value at Tref and the slope B1 (1/K).
-  static double k0_at(double K0_ref, double B1, double T, double Tref) {
-    return K0_ref * std::exp(-B1 * (T - Tref));
-  }
+  static double k0_at(double K0_ref, double B1, double T, double Tref) { return K0_ref * std::exp(-B1 * (T - Tref)); }
 
  private:
   double C_, K0_, B_, invC_;

@@ -16,18 +16,18 @@ struct Grid {
   double h = 0;                    // cell size, m
   std::array<long, D> n{};         // nodes per axis
   std::array<long, D> stride{};    // node index step per axis
-  int fields = 0;      // all velocity fields: deformable, then rigid
-  int deformable = 0;  // fields with full nodal arrays (the first `deformable` fields)
+  int fields = 0;                  // all velocity fields: deformable, then rigid
+  int deformable = 0;              // fields with full nodal arrays (the first `deformable` fields)
 
   // Per deformable field and node.
   std::vector<double> mass;
-  std::vector<Vec<D>> mom;        // momentum after P2G, then after the contact passes
-  std::vector<Vec<D>> mom0;       // momentum as interpolated (FLIP increment base)
-  std::vector<Vec<D>> moff;       // sum S m (x_p - origin): mass centre of the field near the node
-  std::vector<Vec<D>> vgrad;      // sum V_p grad S: volume gradient of the field (contact normals)
-  std::vector<Vec<D>> force;      // internal + external force
-  std::vector<Vec<D>> vel;        // final nodal velocity of the step (v = p/m)
-  std::vector<Vec<D>> dvel;       // velocity increment of the step (FLIP)
+  std::vector<Vec<D>> mom;    // momentum after P2G, then after the contact passes
+  std::vector<Vec<D>> mom0;   // momentum as interpolated (FLIP increment base)
+  std::vector<Vec<D>> moff;   // sum S m (x_p - origin): mass centre of the field near the node
+  std::vector<Vec<D>> vgrad;  // sum V_p grad S: volume gradient of the field (contact normals)
+  std::vector<Vec<D>> force;  // internal + external force
+  std::vector<Vec<D>> vel;    // final nodal velocity of the step (v = p/m)
+  std::vector<Vec<D>> dvel;   // velocity increment of the step (FLIP)
   // Per deformable field and node, only with a binder_layer contact law (allocate_layers), for
   // the layer's displacement jump: sum S m (X_p - origin), sum S m F_p, sum S m bonded_p.
   std::vector<Vec<D>> mref;
@@ -46,7 +46,9 @@ struct Grid {
     return c;
   }
   long at(int field, long node) const { return field * nodes() + node; }
-  double rigid_presence(int field, long node) const { return presence[static_cast<std::size_t>((field - deformable) * nodes() + node)]; }
+  double rigid_presence(int field, long node) const {
+    return presence[static_cast<std::size_t>((field - deformable) * nodes() + node)];
+  }
   Vec<D> position(long node) const {
     Vec<D> x;
     for (int d = 0; d < D; ++d) {

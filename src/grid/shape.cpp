@@ -13,9 +13,12 @@ Kernel kernel_from_name(const std::string& name) {
 
 std::string kernel_name(Kernel k) {
   switch (k) {
-    case Kernel::linear: return "linear";
-    case Kernel::ugimp: return "ugimp";
-    case Kernel::bspline2: return "bspline2";
+    case Kernel::linear:
+      return "linear";
+    case Kernel::ugimp:
+      return "ugimp";
+    case Kernel::bspline2:
+      return "bspline2";
   }
   return "?";
 }

@@ -27,9 +27,15 @@ std::string kernel_name(Kernel k);
 template <class F>
 void with_kernel(Kernel k, F&& f) {
   switch (k) {
-    case Kernel::linear: f(std::integral_constant<Kernel, Kernel::linear>{}); break;
-    case Kernel::ugimp: f(std::integral_constant<Kernel, Kernel::ugimp>{}); break;
-    case Kernel::bspline2: f(std::integral_constant<Kernel, Kernel::bspline2>{}); break;
+    case Kernel::linear:
+      f(std::integral_constant<Kernel, Kernel::linear>{});
+      break;
+    case Kernel::ugimp:
+      f(std::integral_constant<Kernel, Kernel::ugimp>{});
+      break;
+    case Kernel::bspline2:
+      f(std::integral_constant<Kernel, Kernel::bspline2>{});
+      break;
   }
 }
 
@@ -43,9 +49,9 @@ struct HalfWidth {
 
 template <int D>
 struct Stencil {
-  std::array<int, D> base;                     // lowest node index per axis
-  std::array<std::array<double, 3>, D> w;      // weights of nodes base..base+2
-  std::array<std::array<double, 3>, D> g;      // d w / d x_p (1/m)
+  std::array<int, D> base;                 // lowest node index per axis
+  std::array<std::array<double, 3>, D> w;  // weights of nodes base..base+2
+  std::array<std::array<double, 3>, D> g;  // d w / d x_p (1/m)
 };
 
 namespace detail {
@@ -72,8 +78,7 @@ inline void ugimp_1d(double xi, double a, double inv_h, double& w, double& g) {
 
 // s: particle coordinate in cell units relative to the grid origin; a: half-width in cells.
 template <Kernel K>
-inline void kernel_1d(double s, double a, double inv_h, int& base, std::array<double, 3>& w,
-                      std::array<double, 3>& g) {
+inline void kernel_1d(double s, double a, double inv_h, int& base, std::array<double, 3>& w, std::array<double, 3>& g) {
   if constexpr (K == Kernel::linear) {
     const double fl = std::floor(s);
     base = static_cast<int>(fl);
@@ -130,7 +135,8 @@ inline v2d splat(double x) { return v2d{x, x}; }
 // to either side: the branches mispredict at random, twice per particle and step. The lanes do
 // the same IEEE operations as kernel_1d, so the stencil is the same bit for bit (tested).
 template <>
-inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& origin, double inv_h, const HalfWidth& hw) {
+inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& origin, double inv_h,
+                                                 const HalfWidth& hw) {
   using detail::splat;
   using detail::v2d;
   using detail::v2l;
@@ -141,7 +147,7 @@ inline Stencil<2> make_stencil<2, Kernel::ugimp>(const Vec<2>& x, const Vec<2>& 
   // stencil. Coordinates in cells are far below 2^31.
   __m128i ti = _mm_cvttpd_epi32(sh);
   v2d fl = _mm_cvtepi32_pd(ti);
-  const v2l below = fl > sh;                               // floor below zero: one less
+  const v2l below = fl > sh;  // floor below zero: one less
   fl = below ? fl - splat(1.0) : fl;
   ti = _mm_add_epi32(ti, _mm_shuffle_epi32(reinterpret_cast<__m128i>(below), _MM_SHUFFLE(2, 0, 2, 0)));
   const v2d u = s - fl;

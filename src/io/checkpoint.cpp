@@ -116,7 +116,8 @@ void write_checkpoint(const std::string& file, const CheckpointData& c) {
   for (const auto& [k, v] : c.arrays) {
     hsize_t n = v.size();
     hid_t space = H5Screate_simple(1, &n, nullptr);
-    hid_t ds = space < 0 ? -1 : H5Dcreate2(f, k.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t ds =
+        space < 0 ? -1 : H5Dcreate2(f, k.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     ok = ds >= 0 && ok;
     if (ds >= 0 && n > 0) ok = H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) >= 0 && ok;
     if (ds >= 0) ok = H5Dclose(ds) >= 0 && ok;
@@ -170,7 +171,8 @@ CheckpointData read_open(hid_t f, const std::string& file, bool arrays) {
     hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
     hid_t space = ds < 0 ? -1 : H5Dget_space(ds);
     hsize_t n = 0;
-    bool ok = space >= 0 && H5Sget_simple_extent_ndims(space) == 1 && H5Sget_simple_extent_dims(space, &n, nullptr) == 1;
+    bool ok =
+        space >= 0 && H5Sget_simple_extent_ndims(space) == 1 && H5Sget_simple_extent_dims(space, &n, nullptr) == 1;
     std::vector<double> v;
     if (ok && n > (hsize_t{1} << 36)) ok = false;  // a damaged size, not a real array of 550 GB
     if (ok) {
@@ -184,12 +186,14 @@ CheckpointData read_open(hid_t f, const std::string& file, bool arrays) {
   }
   if (arrays) {
     if (H5Aexists(f, "checksum") <= 0)
-      throw InputError(fmt::format("checkpoint '{}' has no checksum (written before 2026-12-04): its data cannot be "
-                                   "verified, so the run cannot continue from it; rerun from the start",
-                                   file));
+      throw InputError(
+          fmt::format("checkpoint '{}' has no checksum (written before 2026-12-04): its data cannot be "
+                      "verified, so the run cannot continue from it; rerun from the start",
+                      file));
     const std::string stored = rd.string(f, "checksum");
     if (stored != checksum(c))
-      rd.damaged(fmt::format("its checksum {} does not match its contents, {}: a changed or truncated copy", stored, checksum(c)));
+      rd.damaged(fmt::format("its checksum {} does not match its contents, {}: a changed or truncated copy", stored,
+                             checksum(c)));
   }
   return c;
 }

@@ -12,8 +12,8 @@ struct CheckpointData {
   std::string deck_text, deck_name;
   std::string code_versions;  // of the run's segments so far, "; "-separated ("" before 2026-12-02)
   std::string run_id;         // the run's identity (run.json "run_id"): a restart writes only into its own run's folder
-  std::map<std::string, double> scalars;               // clock, energies, runner state
-  std::map<std::string, std::vector<double>> arrays;   // flattened particle/material arrays
+  std::map<std::string, double> scalars;              // clock, energies, runner state
+  std::map<std::string, std::vector<double>> arrays;  // flattened particle/material arrays
 };
 
 // Written whole or not at all (throws OutputError, the previous file kept), with a checksum of

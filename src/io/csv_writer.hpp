@@ -1,6 +1,7 @@
 #pragma once
 // A CSV table written row by row and flushed after every row, so a run that stops keeps every
-// row it wrote; a row that cannot be written (disk full) stops the run instead of going missing. Column names carry their units (e.g. "punch_stress_Pa").
+// row it wrote; a row that cannot be written (disk full) stops the run instead of going missing. Column names carry
+// their units (e.g. "punch_stress_Pa").
 #include <cstdio>
 #include <string>
 #include <vector>

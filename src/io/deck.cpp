@@ -33,8 +33,8 @@ Deck Deck::from_string(const std::string& text, const std::string& name, const s
   try {
     d.impl_->root = toml::parse(text, name);
   } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}:{}: {}", name, e.source().begin.line, e.source().begin.column,
-                                 e.description()));
+    throw InputError(
+        fmt::format("{}:{}:{}: {}", name, e.source().begin.line, e.source().begin.column, e.description()));
   }
   return d;
 }
@@ -67,8 +67,7 @@ void find_unused(const toml::node& node, const std::string& path, const std::set
   if (auto* t = node.as_table()) {
     for (auto&& [k, v] : *t) {
       std::string p = path.empty() ? std::string(k.str()) : path + "." + std::string(k.str());
-      if (!used.count(&v))
-        throw InputError(fmt::format("{}:{}: unknown key '{}'", name, v.source().begin.line, p));
+      if (!used.count(&v)) throw InputError(fmt::format("{}:{}: unknown key '{}'", name, v.source().begin.line, p));
       find_unused(v, p, used, name);
     }
   } else if (auto* a = node.as_array()) {
@@ -100,8 +99,7 @@ const toml::table& tbl(const void* p) { return *static_cast<const toml::table*>(
 
 std::string DeckTable::where(const std::string& key) const {
   const toml::node* n = tbl(node_).get(key);
-  long line = n ? static_cast<long>(n->source().begin.line)
-                : static_cast<long>(tbl(node_).source().begin.line);
+  long line = n ? static_cast<long>(n->source().begin.line) : static_cast<long>(tbl(node_).source().begin.line);
   std::string full = path_.empty() ? key : path_ + "." + key;
   return fmt::format("{}:{}: {}", deck_->name(), line, full);
 }
@@ -156,8 +154,8 @@ double DeckTable::quantity(const std::string& key, const Dimension& d, std::opti
                  where(key), v, v, v);
   } else if (auto s = n->value<std::string>()) {
     v = to_si(*s, d, where(key));
-  }
-  else fail(key, fmt::format("expected a number (SI, {}) or a string with a unit", d.si_unit()));
+  } else
+    fail(key, fmt::format("expected a number (SI, {}) or a string with a unit", d.si_unit()));
   // toml accepts nan and inf; no deck quantity may be either (inf would pass every "> 0" check)
   if (!std::isfinite(v)) fail(key, fmt::format("must be a finite number (got {})", v));
   return v;
@@ -170,9 +168,12 @@ double DeckTable::number(const std::string& key, std::optional<double> def) cons
     fail(key, "required key missing (a number)");
   }
   double v;
-  if (auto x = n->value<double>()) v = *x;
-  else if (auto s = n->value<std::string>()) v = to_si(*s, dim::none, where(key));
-  else fail(key, "expected a number");
+  if (auto x = n->value<double>())
+    v = *x;
+  else if (auto s = n->value<std::string>())
+    v = to_si(*s, dim::none, where(key));
+  else
+    fail(key, "expected a number");
   if (!std::isfinite(v)) fail(key, fmt::format("must be a finite number (got {})", v));
   return v;
 }
@@ -220,7 +221,8 @@ std::vector<double> DeckTable::quantities(const std::string& key, const Dimensio
       out.push_back(to_si(*s, d, where(key)));
     else
       fail(key, "expected an array of numbers or strings with units");
-    if (!std::isfinite(out.back())) fail(key, fmt::format("entry {} must be a finite number (got {})", out.size() - 1, out.back()));
+    if (!std::isfinite(out.back()))
+      fail(key, fmt::format("entry {} must be a finite number (got {})", out.size() - 1, out.back()));
   }
   return out;
 }
@@ -261,8 +263,7 @@ std::vector<DeckTable> DeckTable::tables(const std::string& key) const {
   std::size_t i = 0;
   for (auto& e : *a) {
     if (!e.is_table()) fail(key, "expected an array of tables ([[" + key + "]])");
-    out.push_back(DeckTable(deck_, e.as_table(),
-                            fmt::format("{}[{}]", path_.empty() ? key : path_ + "." + key, i++)));
+    out.push_back(DeckTable(deck_, e.as_table(), fmt::format("{}[{}]", path_.empty() ? key : path_ + "." + key, i++)));
   }
   return out;
 }

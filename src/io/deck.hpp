@@ -51,8 +51,7 @@ class DeckTable {
 
  private:
   friend class Deck;
-  DeckTable(const Deck* deck, const void* node, std::string path)
-      : deck_(deck), node_(node), path_(std::move(path)) {}
+  DeckTable(const Deck* deck, const void* node, std::string path) : deck_(deck), node_(node), path_(std::move(path)) {}
   const void* child(const std::string& key) const;  // toml::node*, marks the key used
   const Deck* deck_ = nullptr;
   const void* node_ = nullptr;  // toml::table*
@@ -63,14 +62,15 @@ class Deck {
  public:
   static Deck from_file(const std::string& file);
   // `directory`: the folder relative paths in the deck are resolved against.
-  static Deck from_string(const std::string& text, const std::string& name = "<string>", const std::string& directory = ".");
+  static Deck from_string(const std::string& text, const std::string& name = "<string>",
+                          const std::string& directory = ".");
   Deck(Deck&&) noexcept;
   Deck& operator=(Deck&&) noexcept;
   ~Deck();
 
   DeckTable root() const;
-  const std::string& name() const;     // file name used in messages
-  const std::string& text() const;     // the deck's text as read
+  const std::string& name() const;       // file name used in messages
+  const std::string& text() const;       // the deck's text as read
   const std::string& directory() const;  // folder of the deck file (for relative paths)
   // Throws InputError naming the first key that was never read ("unknown key").
   void check_unused() const;

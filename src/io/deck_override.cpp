@@ -24,9 +24,10 @@ void apply_override(toml::table& deck, const std::string& key, const std::string
   try {
     v = toml::parse("v = " + text);
   } catch (const toml::parse_error&) {
-    throw InputError(fmt::format("{}: cannot read value '{}' (TOML: a number, \"a string with its unit\", true/false, "
-                                 "[an, array])",
-                                 what, text));
+    throw InputError(
+        fmt::format("{}: cannot read value '{}' (TOML: a number, \"a string with its unit\", true/false, "
+                    "[an, array])",
+                    what, text));
   }
   t->insert_or_assign(leaf, *v.get("v"));
 }
@@ -34,11 +35,13 @@ void apply_override(toml::table& deck, const std::string& key, const std::string
 DeckOverride parse_override_option(const std::string& option_text) {
   const auto eq = option_text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError(fmt::format("--set '{}': expected KEY=VALUE (e.g. --set 'grid.cell_size=\"10 um\"')", option_text));
+    throw InputError(
+        fmt::format("--set '{}': expected KEY=VALUE (e.g. --set 'grid.cell_size=\"10 um\"')", option_text));
   return {option_text.substr(0, eq), option_text.substr(eq + 1)};
 }
 
-std::string deck_with_overrides(const std::string& text, const std::string& source, const std::vector<DeckOverride>& set) {
+std::string deck_with_overrides(const std::string& text, const std::string& source,
+                                const std::vector<DeckOverride>& set) {
   if (set.empty()) return text;
   toml::table deck;
   try {
@@ -48,11 +51,13 @@ std::string deck_with_overrides(const std::string& text, const std::string& sour
   }
   for (const auto& [key, value] : set) apply_override(deck, key, value, fmt::format("--set '{}'", key));
   std::ostringstream out;
-  out << fmt::format("# {} with --set {}\n", source, [&] {
-    std::string s;
-    for (const auto& [k, v] : set) s += (s.empty() ? "" : ", ") + k + "=" + v;
-    return s;
-  }()) << deck << "\n";
+  out << fmt::format("# {} with --set {}\n", source,
+                     [&] {
+                       std::string s;
+                       for (const auto& [k, v] : set) s += (s.empty() ? "" : ", ") + k + "=" + v;
+                       return s;
+                     }())
+      << deck << "\n";
   return out.str();
 }
 

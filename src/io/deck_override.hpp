@@ -20,6 +20,7 @@ void apply_override(toml::table& deck, const std::string& key, const std::string
 DeckOverride parse_override_option(const std::string& option_text);
 
 // Deck text with the overrides applied (in order), for Deck::from_string.
-std::string deck_with_overrides(const std::string& text, const std::string& source, const std::vector<DeckOverride>& set);
+std::string deck_with_overrides(const std::string& text, const std::string& source,
+                                const std::vector<DeckOverride>& set);
 
 }  // namespace pbx

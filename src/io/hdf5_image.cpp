@@ -35,7 +35,8 @@ void Hdf5Image::save() {
   const bool ok = size > 0 && H5Fget_file_image(f_, bytes.data(), bytes.size()) == size;
   const herr_t closed = H5Fclose(f_);
   f_ = -1;
-  if (!ok || closed < 0) throw OutputError(fmt::format("cannot write '{}': HDF5 could not finish the file in memory", target_));
+  if (!ok || closed < 0)
+    throw OutputError(fmt::format("cannot write '{}': HDF5 could not finish the file in memory", target_));
   write_bytes_atomically(target_, bytes.data(), bytes.size());
 }
 

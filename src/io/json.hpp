@@ -27,13 +27,20 @@ const Json* json_find(const Json& j, std::string_view key);
 
 // Anything else would convert to a Json silently (a std::string becomes a JSON string, whose
 // members are never found): refused at compile time.
-template <class T> bool json_bool(const T&, std::string_view = {}) = delete;
-template <class T> double json_number(const T&, std::string_view = {}) = delete;
-template <class T> const std::string& json_string(const T&, std::string_view = {}) = delete;
-template <class T> const Json& json_array(const T&, std::string_view = {}) = delete;
-template <class T> const Json& json_object(const T&, std::string_view = {}) = delete;
-template <class T> const Json* json_find(const T&, std::string_view) = delete;
-template <class T> std::string json_dump(const T&) = delete;
+template <class T>
+bool json_bool(const T&, std::string_view = {}) = delete;
+template <class T>
+double json_number(const T&, std::string_view = {}) = delete;
+template <class T>
+const std::string& json_string(const T&, std::string_view = {}) = delete;
+template <class T>
+const Json& json_array(const T&, std::string_view = {}) = delete;
+template <class T>
+const Json& json_object(const T&, std::string_view = {}) = delete;
+template <class T>
+const Json* json_find(const T&, std::string_view) = delete;
+template <class T>
+std::string json_dump(const T&) = delete;
 
 // An array of doubles; non-finite entries are written as null (JSON has no NaN).
 Json json_numbers(const std::vector<double>& xs);

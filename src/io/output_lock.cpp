@@ -27,9 +27,10 @@ OutputLock::OutputLock(const std::filesystem::path& dir, const std::string& what
     fd_ = -1;
     if (err == EWOULDBLOCK) {
       const std::string pid = n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string("?");
-      throw InputError(fmt::format("another pbxmpm process (pid {}) is writing to '{}'; wait for it to end, or "
-                                   "give this {} another output folder",
-                                   pid.substr(0, pid.find('\n')), dir.string(), what));
+      throw InputError(
+          fmt::format("another pbxmpm process (pid {}) is writing to '{}'; wait for it to end, or "
+                      "give this {} another output folder",
+                      pid.substr(0, pid.find('\n')), dir.string(), what));
     }
     throw InputError(fmt::format("cannot lock '{}': {}", file, std::strerror(err)));
   }

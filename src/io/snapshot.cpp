@@ -51,7 +51,8 @@ void SnapshotWriter::write(const SnapshotData& s) {
   const std::size_t n = s.count;
   write_dataset(f, path, "position", H5T_NATIVE_DOUBLE, s.position.data(), n, 3, "m");
   write_dataset(f, path, "velocity", H5T_NATIVE_DOUBLE, s.velocity.data(), n, 3, "m/s");
-  write_dataset(f, path, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6, "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
+  write_dataset(f, path, "stress", H5T_NATIVE_DOUBLE, s.stress.data(), n, 6,
+                "Pa (xx, xy, xz, yy, yz, zz: the XDMF Tensor6 order), tension positive");
   write_dataset(f, path, "pressure", H5T_NATIVE_DOUBLE, s.pressure.data(), n, 1, "Pa, -tr(sigma)/3");
   write_dataset(f, path, "von_mises", H5T_NATIVE_DOUBLE, s.von_mises.data(), n, 1, "Pa");
   write_dataset(f, path, "plastic_strain", H5T_NATIVE_DOUBLE, s.plastic_strain.data(), n, 1, "1");
@@ -61,8 +62,10 @@ void SnapshotWriter::write(const SnapshotData& s) {
   if (s.rigid_count > 0) {
     write_dataset(f, path, "rigid_position", H5T_NATIVE_DOUBLE, s.rigid_position.data(), s.rigid_count, 3, "m");
     std::string names;
-    for (std::size_t b = 0; b < s.rigid_body_names.size(); ++b) names += fmt::format("{}{}={}", b ? ", " : "", b, s.rigid_body_names[b]);
-    write_dataset(f, path, "rigid_body", H5T_NATIVE_INT, s.rigid_body.data(), s.rigid_count, 1, ("rigid body index: " + names).c_str());
+    for (std::size_t b = 0; b < s.rigid_body_names.size(); ++b)
+      names += fmt::format("{}{}={}", b ? ", " : "", b, s.rigid_body_names[b]);
+    write_dataset(f, path, "rigid_body", H5T_NATIVE_INT, s.rigid_body.data(), s.rigid_count, 1,
+                  ("rigid body index: " + names).c_str());
   }
   hid_t aspace = H5Screate(H5S_SCALAR);
   hid_t attr = aspace < 0 ? -1 : H5Acreate2(f, "time_s", H5T_NATIVE_DOUBLE, aspace, H5P_DEFAULT, H5P_DEFAULT);
@@ -82,16 +85,20 @@ void SnapshotWriter::write_xdmf() const {
        "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& e : entries_) {
     const auto n = e.count;
-    x << fmt::format("<Grid Name=\"t\" GridType=\"Collection\" CollectionType=\"Spatial\"><Time Value=\"{:.10g}\"/>\n", e.time);
+    x << fmt::format("<Grid Name=\"t\" GridType=\"Collection\" CollectionType=\"Spatial\"><Time Value=\"{:.10g}\"/>\n",
+                     e.time);
     x << "<Grid Name=\"particles\" GridType=\"Uniform\">\n";
     x << fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", n);
-    x << fmt::format("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
-                     "Format=\"HDF\">{}:/position</DataItem></Geometry>\n", n, e.file);
+    x << fmt::format(
+        "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"HDF\">{}:/position</DataItem></Geometry>\n",
+        n, e.file);
     auto attr = [&](const char* name, const char* type, int cols, const char* num, int prec, std::size_t rows) {
       const std::string dims = cols == 1 ? fmt::format("{}", rows) : fmt::format("{} {}", rows, cols);
-      x << fmt::format("<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\"><DataItem Dimensions=\"{}\" "
-                       "NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}</DataItem></Attribute>\n",
-                       name, type, dims, num, prec, e.file, name);
+      x << fmt::format(
+          "<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\"><DataItem Dimensions=\"{}\" "
+          "NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}</DataItem></Attribute>\n",
+          name, type, dims, num, prec, e.file, name);
     };
     attr("velocity", "Vector", 3, "Float", 8, n);
     attr("stress", "Tensor6", 6, "Float", 8, n);
@@ -104,9 +111,12 @@ void SnapshotWriter::write_xdmf() const {
     x << "</Grid>\n";
     if (e.rigid_count > 0) {
       x << "<Grid Name=\"rigid_bodies\" GridType=\"Uniform\">\n";
-      x << fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", e.rigid_count);
-      x << fmt::format("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
-                       "Format=\"HDF\">{}:/rigid_position</DataItem></Geometry>\n", e.rigid_count, e.file);
+      x << fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n",
+                       e.rigid_count);
+      x << fmt::format(
+          "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"HDF\">{}:/rigid_position</DataItem></Geometry>\n",
+          e.rigid_count, e.file);
       attr("rigid_body", "Scalar", 1, "Int", 4, e.rigid_count);
       x << "</Grid>\n";
     }

@@ -10,21 +10,21 @@
 namespace pbx {
 
 struct SnapshotData {
-  double time = 0;                      // s
+  double time = 0;  // s
   int dim = 2;
   std::size_t count = 0;
-  std::vector<double> position;         // count x 3 (z = 0 in 2D), m
-  std::vector<double> velocity;         // count x 3, m/s
-  std::vector<double> stress;           // count x 6 (xx, xy, xz, yy, yz, zz: XDMF Tensor6 order), Pa
-  std::vector<double> pressure;         // -tr(sigma)/3, Pa
-  std::vector<double> von_mises;        // Pa
-  std::vector<double> plastic_strain;   // equivalent plastic strain, 1
-  std::vector<double> volume;           // m^2 (per m of depth) in 2D
+  std::vector<double> position;        // count x 3 (z = 0 in 2D), m
+  std::vector<double> velocity;        // count x 3, m/s
+  std::vector<double> stress;          // count x 6 (xx, xy, xz, yy, yz, zz: XDMF Tensor6 order), Pa
+  std::vector<double> pressure;        // -tr(sigma)/3, Pa
+  std::vector<double> von_mises;       // Pa
+  std::vector<double> plastic_strain;  // equivalent plastic strain, 1
+  std::vector<double> volume;          // m^2 (per m of depth) in 2D
   std::vector<int> material, field;
   // The rigid bodies (die walls, punch, [[rigid]]) as their particles, so a viewer shows the die:
   std::size_t rigid_count = 0;
-  std::vector<double> rigid_position;   // rigid_count x 3, m
-  std::vector<int> rigid_body;          // index into rigid_body_names
+  std::vector<double> rigid_position;  // rigid_count x 3, m
+  std::vector<int> rigid_body;         // index into rigid_body_names
   std::vector<std::string> rigid_body_names;
 };
 
@@ -43,7 +43,8 @@ class SnapshotWriter {
   // rigid_count: the bodies' particle count, which does not change during a run
   void restore(const std::vector<std::pair<double, std::size_t>>& w, std::size_t rigid_count) {
     entries_.clear();
-    for (std::size_t i = 0; i < w.size(); ++i) entries_.push_back({snapshot_name(i), w[i].first, w[i].second, rigid_count});
+    for (std::size_t i = 0; i < w.size(); ++i)
+      entries_.push_back({snapshot_name(i), w[i].first, w[i].second, rigid_count});
   }
   static std::string snapshot_name(std::size_t i);
 

@@ -19,19 +19,26 @@ class ElasticDeviator {
 
   struct Step {};
   Step prepare(double /*dt*/) const { return {}; }
-  template <int D> int history_size() const { return 0; }
-  template <int D> std::vector<std::string> history_names() const { return {}; }
-  template <int D> void init_history(double*) const {}
+  template <int D>
+  int history_size() const {
+    return 0;
+  }
+  template <int D>
+  std::vector<std::string> history_names() const {
+    return {};
+  }
+  template <int D>
+  void init_history(double*) const {}
   double plastic_strain(const double*) const { return 0.0; }
-  double shear_modulus() const { return G_; }   // instantaneous, for the wave speed
+  double shear_modulus() const { return G_; }  // instantaneous, for the wave speed
   double bulk_overstress_modulus() const { return 0.0; }
 
   // s_rot: start-of-step deviator already rotated; de: deviatoric strain increment; dtheta: tr(D) dt.
   // Returns the new stress minus the EOS part (deviator, plus any isotropic overstress);
   // adds dissipated energy per unit current volume to `diss`.
   template <int D>
-  Sym3 update(const Step&, const Sym3& s_rot, const StepRotation<D>&, const Sym3& de, double /*dtheta*/,
-              double* /*h*/, double& /*diss*/) const {
+  Sym3 update(const Step&, const Sym3& s_rot, const StepRotation<D>&, const Sym3& de, double /*dtheta*/, double* /*h*/,
+              double& /*diss*/) const {
     return s_rot + (2.0 * G_) * de;
   }
 

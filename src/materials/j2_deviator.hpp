@@ -25,38 +25,41 @@ class DeckTable;
 class J2Deviator {
  public:
   struct Params {
-    double G = 0;          // shear modulus, Pa
-    double sigma0 = 0;     // initial yield stress, Pa
-    double Ep = 0;         // plastic hardening modulus, Pa
-    double beta = 1;       // 1 isotropic, 0 kinematic
-    double cs_C = 0;       // Cowper-Symonds C, 1/s (0 = off)
-    double cs_P = 0;       // Cowper-Symonds P
+    double G = 0;       // shear modulus, Pa
+    double sigma0 = 0;  // initial yield stress, Pa
+    double Ep = 0;      // plastic hardening modulus, Pa
+    double beta = 1;    // 1 isotropic, 0 kinematic
+    double cs_C = 0;    // Cowper-Symonds C, 1/s (0 = off)
+    double cs_P = 0;    // Cowper-Symonds P
   };
   static constexpr const char* name = "j2";
   static std::vector<std::string> keys() {
-    return {"shear_modulus", "yield_stress", "hardening_modulus", "hardening_beta", "cowper_symonds_c",
-            "cowper_symonds_p"};
+    return {"shear_modulus",  "yield_stress",     "hardening_modulus",
+            "hardening_beta", "cowper_symonds_c", "cowper_symonds_p"};
   }
   static J2Deviator from_deck(const DeckTable& t, const SolidSetup& s);
   explicit J2Deviator(const Params& p) : p_(p), kinematic_(p.beta < 1.0 && p.Ep > 0.0) {}
   const Params& params() const { return p_; }
 
   // Cowper-Symonds factor at equivalent strain rate `rate` (1/s).
-  double rate_factor(double rate) const {
-    return p_.cs_C > 0.0 ? 1.0 + std::pow(rate / p_.cs_C, 1.0 / p_.cs_P) : 1.0;
-  }
+  double rate_factor(double rate) const { return p_.cs_C > 0.0 ? 1.0 + std::pow(rate / p_.cs_C, 1.0 / p_.cs_P) : 1.0; }
 
   struct Step {
     double inv_dt;
   };
   Step prepare(double dt) const { return {dt > 0 ? 1.0 / dt : 0.0}; }
-  template <int D> int history_size() const { return 1 + (kinematic_ ? DeviatoricStorage<D>::size : 0); }
-  template <int D> std::vector<std::string> history_names() const {
+  template <int D>
+  int history_size() const {
+    return 1 + (kinematic_ ? DeviatoricStorage<D>::size : 0);
+  }
+  template <int D>
+  std::vector<std::string> history_names() const {
     std::vector<std::string> n{"plastic_strain"};
     if (kinematic_) DeviatoricStorage<D>::names("back_stress_Pa", n);
     return n;
   }
-  template <int D> void init_history(double* h) const {
+  template <int D>
+  void init_history(double* h) const {
     for (int i = 0; i < history_size<D>(); ++i) h[i] = 0.0;
   }
   double plastic_strain(const double* h) const { return h[0]; }
@@ -64,8 +67,8 @@ class J2Deviator {
   double bulk_overstress_modulus() const { return 0.0; }
 
   template <int D>
-  Sym3 update(const Step& st, const Sym3& s_rot, const StepRotation<D>& R, const Sym3& de, double /*dtheta*/,
-              double* h, double& diss) const {
+  Sym3 update(const Step& st, const Sym3& s_rot, const StepRotation<D>& R, const Sym3& de, double /*dtheta*/, double* h,
+              double& diss) const {
     const double twoG = 2.0 * p_.G;
     Sym3 s = s_rot + twoG * de;
     Sym3 alpha;

@@ -82,7 +82,8 @@ std::unique_ptr<Material<D>> make_linear_elastic(const DeckTable& t, const Mater
   // the densest element is 22,590 kg/m3: far above it is a unit slip (g/cm3 written as kg/m3 x 1000)
   if (rho > 1e5) t.fail("density", fmt::format("{} kg/m3 exceeds 1e5 kg/m3 (100 g/cm3): check the unit", rho));
   double K, G;
-  const bool en = t.has("youngs_modulus") || t.has("poisson_ratio"), kg = t.has("bulk_modulus") || t.has("shear_modulus");
+  const bool en = t.has("youngs_modulus") || t.has("poisson_ratio"),
+             kg = t.has("bulk_modulus") || t.has("shear_modulus");
   // two definitions of one elasticity: neither may be ignored (it was reported as an unknown key)
   if (en && kg)
     t.fail(t.has("bulk_modulus") ? "bulk_modulus" : "shear_modulus",

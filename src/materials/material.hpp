@@ -33,7 +33,7 @@ struct MaterialBatch {
   const double* volume0 = nullptr;  // reference volume
   Sym3* stress = nullptr;           // Cauchy stress, in: start of step, out: end of step
   double* history = nullptr;
-  double dt = 0;                    // s
+  double dt = 0;  // s
 };
 
 struct MaterialStepResult {

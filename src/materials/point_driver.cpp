@@ -38,8 +38,8 @@ MaterialStepResult MaterialPoint<D>::step(const Mat<D>& L, double dt) {
   const Sym3& st = stress_;
   if (!std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx)) {
     const std::string why = material_->failure_reason(V);
-    throw InstabilityError(fmt::format("material point at t = {:.6g} s: non-finite stress at J = {:.4g}{}{}", time_ + dt, V,
-                                       why.empty() ? "" : ": ", why));
+    throw InstabilityError(fmt::format("material point at t = {:.6g} s: non-finite stress at J = {:.4g}{}{}",
+                                       time_ + dt, V, why.empty() ? "" : ": ", why));
   }
   F_ = Fn;
   time_ += dt;
@@ -63,11 +63,16 @@ PointPath parse_point_path(const std::string& name) {
 
 std::string point_path_name(PointPath p) {
   switch (p) {
-    case PointPath::uniaxial_strain: return "uniaxial_strain";
-    case PointPath::uniaxial_stress: return "uniaxial_stress";
-    case PointPath::simple_shear: return "simple_shear";
-    case PointPath::step_shear: return "step_shear";
-    case PointPath::hydrostatic: return "hydrostatic";
+    case PointPath::uniaxial_strain:
+      return "uniaxial_strain";
+    case PointPath::uniaxial_stress:
+      return "uniaxial_stress";
+    case PointPath::simple_shear:
+      return "simple_shear";
+    case PointPath::step_shear:
+      return "step_shear";
+    case PointPath::hydrostatic:
+      return "hydrostatic";
   }
   return "?";
 }
@@ -75,10 +80,13 @@ std::string point_path_name(PointPath p) {
 std::string point_strain_meaning(PointPath p) {
   switch (p) {
     case PointPath::uniaxial_strain:
-    case PointPath::uniaxial_stress: return "axial logarithmic strain ln(F_xx)";
+    case PointPath::uniaxial_stress:
+      return "axial logarithmic strain ln(F_xx)";
     case PointPath::simple_shear:
-    case PointPath::step_shear: return "engineering shear strain F_xy";
-    case PointPath::hydrostatic: return "volumetric logarithmic strain ln(J)";
+    case PointPath::step_shear:
+      return "engineering shear strain F_xy";
+    case PointPath::hydrostatic:
+      return "volumetric logarithmic strain ln(J)";
   }
   return "?";
 }
@@ -91,10 +99,16 @@ PointSample sample(const MaterialPoint<3>& mp, PointPath path) {
   s.J = mp.J();
   switch (path) {
     case PointPath::uniaxial_strain:
-    case PointPath::uniaxial_stress: s.strain = std::log(mp.F()(0, 0)); break;
+    case PointPath::uniaxial_stress:
+      s.strain = std::log(mp.F()(0, 0));
+      break;
     case PointPath::simple_shear:
-    case PointPath::step_shear: s.strain = mp.F()(0, 1); break;
-    case PointPath::hydrostatic: s.strain = std::log(s.J); break;
+    case PointPath::step_shear:
+      s.strain = mp.F()(0, 1);
+      break;
+    case PointPath::hydrostatic:
+      s.strain = std::log(s.J);
+      break;
   }
   s.stress = mp.stress();
   s.plastic_strain = mp.plastic_strain();
@@ -128,8 +142,10 @@ void uniaxial_stress_step(MaterialPoint<3>& mp, double axial_rate, double dt, do
   }
   const double scale = std::max(std::abs(mp.stress().xx), 1.0);
   if (std::abs(f1) > 1e-6 * scale)
-    throw InstabilityError(fmt::format("uniaxial_stress: lateral stress did not converge to 0 at t = {} s "
-                                       "(sigma_yy = {} Pa)", saved.time() + dt, f1));
+    throw InstabilityError(
+        fmt::format("uniaxial_stress: lateral stress did not converge to 0 at t = {} s "
+                    "(sigma_yy = {} Pa)",
+                    saved.time() + dt, f1));
   d = d1;
 }
 
@@ -182,11 +198,20 @@ std::vector<PointSample> drive_point(const Material<3>& m, const PointLoad& load
   for (int i = 0; i < load.steps; ++i) {
     Mat3 L = Mat3::Zero();
     switch (load.path) {
-      case PointPath::uniaxial_strain: L(0, 0) = r; break;
-      case PointPath::simple_shear: L(0, 1) = r; break;
-      case PointPath::hydrostatic: L = Mat3::Identity() * (r / 3.0); break;
-      case PointPath::uniaxial_stress: uniaxial_stress_step(mp, r, dt, lateral); break;
-      case PointPath::step_shear: break;
+      case PointPath::uniaxial_strain:
+        L(0, 0) = r;
+        break;
+      case PointPath::simple_shear:
+        L(0, 1) = r;
+        break;
+      case PointPath::hydrostatic:
+        L = Mat3::Identity() * (r / 3.0);
+        break;
+      case PointPath::uniaxial_stress:
+        uniaxial_stress_step(mp, r, dt, lateral);
+        break;
+      case PointPath::step_shear:
+        break;
     }
     if (load.path != PointPath::uniaxial_stress) mp.step(L, dt);
     out.push_back(sample(mp, load.path));
@@ -200,8 +225,8 @@ void write_point_csv(std::ostream& out, const std::vector<PointSample>& samples)
   for (const auto& s : samples) {
     const Sym3& t = s.stress;
     fmt::print(out, "{:.9e},{:.9e},{:.12g},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}\n",
-               s.time, s.strain, s.J, t.xx, t.yy, t.zz, t.xy, t.yz, t.zx, -t.mean(), t.von_mises(),
-               s.plastic_strain, s.dissipated);
+               s.time, s.strain, s.J, t.xx, t.yy, t.zz, t.xy, t.yz, t.zx, -t.mean(), t.von_mises(), s.plastic_strain,
+               s.dissipated);
   }
 }
 

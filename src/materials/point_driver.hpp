@@ -21,8 +21,8 @@ class MaterialPoint {
   double J() const { return F_.determinant(); }
   double time() const { return time_; }
   double plastic_strain() const { return material_->plastic_strain(history_.data()); }
-  double dissipated() const { return dissipated_; }    // J per m^3 of reference volume, cumulative
-  double stress_work() const { return work_; }         // J per m^3 of reference volume, cumulative
+  double dissipated() const { return dissipated_; }  // J per m^3 of reference volume, cumulative
+  double stress_work() const { return work_; }       // J per m^3 of reference volume, cumulative
   const std::vector<double>& history() const { return history_; }
   std::vector<double>& history() { return history_; }
 

@@ -8,8 +8,8 @@ namespace pbx {
 
 std::vector<std::string> PronyDeviator::keys() {
   auto k = TimeTemperatureShift::keys();
-  for (const char* s : {"long_term_shear_modulus", "prony_shear_moduli", "prony_shear_times",
-                        "prony_bulk_moduli", "prony_bulk_times"})
+  for (const char* s :
+       {"long_term_shear_modulus", "prony_shear_moduli", "prony_shear_times", "prony_bulk_moduli", "prony_bulk_times"})
     k.push_back(s);
   return k;
 }
@@ -19,8 +19,7 @@ void read_series(const DeckTable& t, const std::string& mkey, const std::string&
                  std::vector<double>& tau) {
   m = t.quantities(mkey, dim::pressure);
   tau = t.quantities(tkey, dim::time);
-  if (m.size() != tau.size())
-    t.fail(tkey, fmt::format("has {} entries but {} has {}", tau.size(), mkey, m.size()));
+  if (m.size() != tau.size()) t.fail(tkey, fmt::format("has {} entries but {} has {}", tau.size(), mkey, m.size()));
   for (double v : m)
     if (!(v > 0.0)) t.fail(mkey, fmt::format("every modulus must be > 0 (got {} Pa)", v));
   for (double v : tau)

@@ -26,9 +26,9 @@ class DeckTable;
 class PronyDeviator {
  public:
   struct Params {
-    double G_inf = 0;                   // Pa
-    std::vector<double> G, tau;         // shear branches: Pa, s (at the reference temperature)
-    std::vector<double> K, tauK;        // bulk branches: Pa, s
+    double G_inf = 0;             // Pa
+    std::vector<double> G, tau;   // shear branches: Pa, s (at the reference temperature)
+    std::vector<double> K, tauK;  // bulk branches: Pa, s
     TimeTemperatureShift shift;
   };
   static constexpr const char* name = "viscoelastic";
@@ -50,26 +50,29 @@ class PronyDeviator {
   };
   Step prepare(double dt) const;
 
-  template <int D> int history_size() const {
+  template <int D>
+  int history_size() const {
     return static_cast<int>(p_.G.size()) * DeviatoricStorage<D>::size + static_cast<int>(p_.K.size());
   }
-  template <int D> std::vector<std::string> history_names() const {
+  template <int D>
+  std::vector<std::string> history_names() const {
     std::vector<std::string> n;
     for (std::size_t k = 0; k < p_.G.size(); ++k)
       DeviatoricStorage<D>::names("prony_shear" + std::to_string(k + 1) + "_Pa", n);
     for (std::size_t j = 0; j < p_.K.size(); ++j) n.push_back("prony_bulk" + std::to_string(j + 1) + "_Pa");
     return n;
   }
-  template <int D> void init_history(double* h) const {
+  template <int D>
+  void init_history(double* h) const {
     for (int i = 0; i < history_size<D>(); ++i) h[i] = 0.0;
   }
   double plastic_strain(const double*) const { return 0.0; }
-  double shear_modulus() const { return G0_; }              // instantaneous G(0)
-  double bulk_overstress_modulus() const { return K0_; }    // instantaneous sum K_j
+  double shear_modulus() const { return G0_; }            // instantaneous G(0)
+  double bulk_overstress_modulus() const { return K0_; }  // instantaneous sum K_j
 
   template <int D>
-  Sym3 update(const Step& st, const Sym3& s_rot, const StepRotation<D>& R, const Sym3& de, double dtheta,
-              double* h, double& diss) const {
+  Sym3 update(const Step& st, const Sym3& s_rot, const StepRotation<D>& R, const Sym3& de, double dtheta, double* h,
+              double& diss) const {
     constexpr int n = DeviatoricStorage<D>::size;
     Sym3 s = s_rot + (2.0 * p_.G_inf) * de;
     const double de2 = de.ddot(de);

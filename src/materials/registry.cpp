@@ -29,7 +29,7 @@ const std::map<std::string, Factory<D>>& registry() {
       {"viscoelastic_linear", make_solid<D, PronyDeviator, LinearBulkEos>},
       {"viscoelastic_mie_gruneisen", make_solid<D, PronyDeviator, MieGruneisenEos>},
       {"viscoelastic_tait", make_solid<D, PronyDeviator, TaitEos>},  // F2314 (paper Eq. 10-11)
-      // registry lines for further models go here
+                                                                     // registry lines for further models go here
   };
   return r;
 }
@@ -47,8 +47,7 @@ std::unique_ptr<Material<D>> make_material(const DeckTable& t, const MaterialCon
   auto& r = registry<D>();
   auto it = r.find(model);
   if (it == r.end())
-    t.fail("model", fmt::format("unknown material model '{}' (known: {})", model,
-                                fmt::join(material_models(), ", ")));
+    t.fail("model", fmt::format("unknown material model '{}' (known: {})", model, fmt::join(material_models(), ", ")));
   return it->second(t, ctx);
 }
 

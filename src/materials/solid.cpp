@@ -40,10 +40,10 @@ SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx) {
   // changes the density by more than 20 % is a slip (a unit, a sign), not a state to compute.
   const double strain_v = alpha_v * (s.temperature - s.reference_temperature);
   if (std::fabs(strain_v) > 0.2)
-    t.fail("thermal_expansion", fmt::format("{:.4g} 1/K at {:.6g} K (reference {:.6g} K) changes the density by {:.3g} %: "
-                                            "beyond the thermal expansion this model is for (at most 20 %)",
-                                            alpha_v, s.temperature, s.reference_temperature,
-                                            100 * (std::exp(-strain_v) - 1)));
+    t.fail("thermal_expansion",
+           fmt::format("{:.4g} 1/K at {:.6g} K (reference {:.6g} K) changes the density by {:.3g} %: "
+                       "beyond the thermal expansion this model is for (at most 20 %)",
+                       alpha_v, s.temperature, s.reference_temperature, 100 * (std::exp(-strain_v) - 1)));
   s.density = rho_ref * std::exp(-strain_v);
   return s;
 }
@@ -61,7 +61,7 @@ std::unique_ptr<Material<D>> make_solid(const DeckTable& t, const MaterialContex
   return std::make_unique<Solid<D, Dev, Eos>>(s, Dev::from_deck(t, s), Eos::from_deck(t, s));
 }
 
-#define PBX_SOLID(DEV, EOS)                                                                        \
+#define PBX_SOLID(DEV, EOS)                                                                                \
   template std::unique_ptr<Material<2>> make_solid<2, DEV, EOS>(const DeckTable&, const MaterialContext&); \
   template std::unique_ptr<Material<3>> make_solid<3, DEV, EOS>(const DeckTable&, const MaterialContext&);
 PBX_SOLID(ElasticDeviator, LinearBulkEos)

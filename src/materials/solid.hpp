@@ -23,7 +23,10 @@ template <int D, class Dev, class Eos>
 class Solid final : public Material<D> {
  public:
   Solid(const SolidSetup& s, Dev dev, Eos eos)
-      : setup_(s), dev_(std::move(dev)), eos_(std::move(eos)), nd_(dev_.template history_size<D>()),
+      : setup_(s),
+        dev_(std::move(dev)),
+        eos_(std::move(eos)),
+        nd_(dev_.template history_size<D>()),
         nh_(nd_ + eos_.history_size()) {}
 
   static std::string model_name() { return std::string(Dev::name) + "_" + Eos::name; }
@@ -46,8 +49,10 @@ class Solid final : public Material<D> {
   }
   double plastic_strain(const double* h) const override { return dev_.plastic_strain(h); }
   std::string failure_reason(double J) const override {
-    if constexpr (requires { eos_.failure_reason(J); }) return eos_.failure_reason(J);
-    else return {};
+    if constexpr (requires { eos_.failure_reason(J); })
+      return eos_.failure_reason(J);
+    else
+      return {};
   }
   const Dev& deviator() const { return dev_; }
   const Eos& eos() const { return eos_; }

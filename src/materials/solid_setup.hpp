@@ -7,10 +7,10 @@
 namespace pbx {
 
 struct SolidSetup {
-  std::string name;              // deck name of the material, for messages
-  double temperature = 293.0;    // K, run temperature
+  std::string name;                      // deck name of the material, for messages
+  double temperature = 293.0;            // K, run temperature
   double reference_temperature = 293.0;  // K
-  double density = 0;            // kg/m^3, stress-free at `temperature`
+  double density = 0;                    // kg/m^3, stress-free at `temperature`
 };
 
 // Result of an EOS update: pressure (compression positive) and the tangent bulk modulus

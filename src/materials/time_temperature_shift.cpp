@@ -20,10 +20,11 @@ TimeTemperatureShift TimeTemperatureShift::from_deck(const DeckTable& t) {
     // A plain number is J/mol: "100" meant as kJ/mol would give a binder without temperature
     // dependence (a_T(373 K) = 0.99) and no complaint. Polymers' flow: tens to hundreds of kJ/mol.
     if (s.activation_energy < 1e3)
-      t.fail("activation_energy", fmt::format("{} J/mol is below 1 kJ/mol, far below any polymer's (tens to hundreds of "
-                                              "kJ/mol; a plain number is J/mol: write e.g. \"100 kJ/mol\"); for no "
-                                              "temperature shift use shift = \"none\"",
-                                              s.activation_energy));
+      t.fail("activation_energy",
+             fmt::format("{} J/mol is below 1 kJ/mol, far below any polymer's (tens to hundreds of "
+                         "kJ/mol; a plain number is J/mol: write e.g. \"100 kJ/mol\"); for no "
+                         "temperature shift use shift = \"none\"",
+                         s.activation_energy));
   } else if (kind == "wlf") {
     s.kind = Kind::wlf;
     s.c1 = t.number("wlf_c1");
@@ -42,8 +43,8 @@ double TimeTemperatureShift::factor(double T, double Tref) const {
       return std::exp(activation_energy / gas_constant * (1.0 / T - 1.0 / Tref));
     case Kind::wlf:
       if (!(c2 + T - Tref > 0.0))
-        throw InputError(fmt::format("WLF shift undefined at T = {} K: wlf_c2 + T - Tref = {} K must be > 0",
-                                     T, c2 + T - Tref));
+        throw InputError(
+            fmt::format("WLF shift undefined at T = {} K: wlf_c2 + T - Tref = {} K must be > 0", T, c2 + T - Tref));
       return std::pow(10.0, -c1 * (T - Tref) / (c2 + T - Tref));
   }
   return 1.0;

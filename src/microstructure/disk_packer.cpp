@@ -11,8 +11,7 @@ namespace {
 // with the force o along the centre line. Unit masses and stiffnesses make the FIRE time step
 // independent of the length unit.
 struct Packer {
-  Packer(const std::vector<double>& radius, const std::vector<double>& wall_radius, const Eigen::Vector2d& b,
-         bool p)
+  Packer(const std::vector<double>& radius, const std::vector<double>& wall_radius, const Eigen::Vector2d& b, bool p)
       : r(radius), rw(wall_radius), box(b), periodic(p) {}
 
   const std::vector<double>& r;
@@ -238,7 +237,8 @@ DiskPackerResult pack_disks(const std::vector<double>& radius, const std::vector
 
   // 1. Random disks: uniform positions, grown from start_scale to full size, relaxed at each step.
   for (int i : random) {
-    for (int k = 0; k < 2; ++k) p.x[i][k] = opt.periodic ? rng.uniform(0.0, box[k]) : rng.uniform(wall_radius[i], box[k] - wall_radius[i]);
+    for (int k = 0; k < 2; ++k)
+      p.x[i][k] = opt.periodic ? rng.uniform(0.0, box[k]) : rng.uniform(wall_radius[i], box[k] - wall_radius[i]);
     p.active[i] = 1;
   }
   for (int step = 0; step <= opt.growth_steps; ++step) {
@@ -266,7 +266,8 @@ DiskPackerResult pack_disks(const std::vector<double>& radius, const std::vector
       p.x[i] = y;
       p.active[i] = 1;
       ++next;
-      for (int k = 0; k < grid.nx * grid.ny; ++k) grid.c[k] = std::min(grid.c[k], p.sep(grid.node(k), y).norm() - radius[i]);
+      for (int k = 0; k < grid.nx * grid.ny; ++k)
+        grid.c[k] = std::min(grid.c[k], p.sep(grid.node(k), y).norm() - radius[i]);
     }
     p.build_pairs();
     p.relax(opt.max_iterations, ftol);

@@ -14,12 +14,12 @@
 namespace pbx {
 
 struct DiskPackerOptions {
-  bool periodic = false;        // periodic box (no walls): the box is a window into a bulk packing
-  double start_scale = 0.5;     // random disks start at this fraction of their size and grow
-  int growth_steps = 10;        // growth steps of the random disks (each relaxed)
-  int batch = 1;                // void-filling disks inserted between two relaxations
-  int relocations = 40;         // squeezed void-filling disks moved to the largest void, at most
-  int max_iterations = 5000;    // FIRE iterations per relaxation
+  bool periodic = false;          // periodic box (no walls): the box is a window into a bulk packing
+  double start_scale = 0.5;       // random disks start at this fraction of their size and grow
+  int growth_steps = 10;          // growth steps of the random disks (each relaxed)
+  int batch = 1;                  // void-filling disks inserted between two relaxations
+  int relocations = 40;           // squeezed void-filling disks moved to the largest void, at most
+  int max_iterations = 5000;      // FIRE iterations per relaxation
   int final_iterations = 100000;  // FIRE iterations of the last relaxation
 };
 

@@ -64,11 +64,15 @@ Packing import_image(const ImageSpec& spec) {
     for (int i = 0; i < im.nx; ++i) {
       const std::uint8_t* c = &img.rgb[3 * (static_cast<std::size_t>(im.ny - 1 - j) * im.nx + i)];
       const std::uint32_t rgb = (std::uint32_t(c[0]) << 16) | (std::uint32_t(c[1]) << 8) | c[2];
-      if (rgb == spec.tatb) im.label[idx(i, j)] = kTatb;
-      else if (rgb == spec.binder) im.label[idx(i, j)] = -1;
+      if (rgb == spec.tatb)
+        im.label[idx(i, j)] = kTatb;
+      else if (rgb == spec.binder)
+        im.label[idx(i, j)] = -1;
       else if (rgb != spec.void_)
-        throw InputError(fmt::format("{}: pixel ({}, {}) from the top-left has colour #{:06X}, which is not in "
-                                     "the legend", spec.file, i, im.ny - 1 - j, rgb));
+        throw InputError(
+            fmt::format("{}: pixel ({}, {}) from the top-left has colour #{:06X}, which is not in "
+                        "the legend",
+                        spec.file, i, im.ny - 1 - j, rgb));
     }
   // Connected components (4-neighbour flood fill) of the TATB pixels.
   std::vector<std::size_t> stack;
@@ -98,16 +102,17 @@ Packing import_image(const ImageSpec& spec) {
       p.grains.push_back(gr);
     }
   if (p.grains.empty())
-    throw InputError(fmt::format("{}: no pixel has the TATB colour #{:06X} of the legend: there is no grain to simulate",
-                                 spec.file, spec.tatb));
+    throw InputError(fmt::format(
+        "{}: no pixel has the TATB colour #{:06X} of the legend: there is no grain to simulate", spec.file, spec.tatb));
   // Grains within contact_gap of each other (pixel centres) must get different colours. The search
   // visits (2 reach + 1)^2 pixels around each boundary pixel, so a gap of many pixels (a unit slip,
   // "1 m" for "1 um") would run for hours: refuse it.
   constexpr double kMaxReach = 64;
   if (spec.contact_gap / spec.pixel > kMaxReach)
-    throw InputError(fmt::format("{}: contact_gap = {:.3g} m spans {:.3g} pixels of {:.3g} m; at most {:.0f} are "
-                                 "supported (grains that close are neighbours; the paper's binder coats are microns)",
-                                 spec.file, spec.contact_gap, spec.contact_gap / spec.pixel, spec.pixel, kMaxReach));
+    throw InputError(
+        fmt::format("{}: contact_gap = {:.3g} m spans {:.3g} pixels of {:.3g} m; at most {:.0f} are "
+                    "supported (grains that close are neighbours; the paper's binder coats are microns)",
+                    spec.file, spec.contact_gap, spec.contact_gap / spec.pixel, spec.pixel, kMaxReach));
   const int reach = static_cast<int>(std::ceil(spec.contact_gap / spec.pixel));
   std::set<std::pair<int, int>> pairs;
   for (int j = 0; j < im.ny; ++j)

@@ -12,10 +12,10 @@ class DeckTable;
 
 struct ImageSpec {
   std::string file;
-  double pixel = 1e-6;  // m, side of a square pixel
+  double pixel = 1e-6;                                                 // m, side of a square pixel
   std::uint32_t tatb = 0xFFFF00, binder = 0x008000, void_ = 0xFFFFFF;  // legend, 0xRRGGBB
-  double tatb_density = 1934, binder_density = 2020;  // kg/m3
-  double contact_gap = 2e-6;                          // m
+  double tatb_density = 1934, binder_density = 2020;                   // kg/m3
+  double contact_gap = 2e-6;                                           // m
 };
 
 // Reads the image keys of a [packing] table; `file` overrides the table's `image` key when non-empty.

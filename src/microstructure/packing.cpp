@@ -19,9 +19,7 @@ double PackingSpec::tmd() const {
   return 1.0 / (wt / tatb_density + wb / binder_density);
 }
 
-double PackingSpec::binder_per_tatb_area() const {
-  return (binder_mass / tatb_mass) * (tatb_density / binder_density);
-}
+double PackingSpec::binder_per_tatb_area() const { return (binder_mass / tatb_mass) * (tatb_density / binder_density); }
 
 namespace {
 
@@ -37,7 +35,8 @@ DiameterMode read_mode(const DeckTable& t, double dmin, double dmax) {
     const double p = Phi((dmax - m.mean) / m.spread) - Phi((dmin - m.mean) / m.spread);
     if (p < 1e-3)
       t.fail("mean", fmt::format("only {:.2g} of this normal lies in [diameter_min, diameter_max]: move the mean "
-                                 "into the range or widen the spread", p));
+                                 "into the range or widen the spread",
+                                 p));
   }
   return m;
 }
@@ -66,7 +65,8 @@ PackingSpec read_packing_spec(const DeckTable& t) {
   if (t.has("porosity") == t.has("density")) t.fail("porosity", "give exactly one of porosity and density");
   if (t.has("porosity")) {
     s.porosity = t.number("porosity");
-    if (!(s.porosity >= 0 && s.porosity < 1)) t.fail("porosity", fmt::format("must lie in [0, 1) (got {})", s.porosity));
+    if (!(s.porosity >= 0 && s.porosity < 1))
+      t.fail("porosity", fmt::format("must lie in [0, 1) (got {})", s.porosity));
   } else {
     const double rho = t.positive("density", dim::density);
     s.porosity = 1.0 - rho / s.tmd();
@@ -259,7 +259,8 @@ Packing generate_packing(const PackingSpec& spec) {
   p.grains_shrunk = shrunk;
   p.max_shrink = max_shrink;
   p.attempt = used;
-  for (std::size_t i = 0; i < sample.size(); ++i) p.grains.push_back({best.centres[i], diameter[i], 0, 0, sample[i].mode});
+  for (std::size_t i = 0; i < sample.size(); ++i)
+    p.grains.push_back({best.centres[i], diameter[i], 0, 0, sample[i].mode});
 
   if (!best.overlap_free) {
     // Best reached: the same arrangement with every diameter shrunk by the one factor that removes
@@ -280,12 +281,13 @@ Packing generate_packing(const PackingSpec& spec) {
     }
     const double kept = shrink * shrink * tatb_area;
     const double reached = 1.0 - (1.0 + beta) * kept / box_area;
-    throw InputError(fmt::format(
-        "packing.porosity: {:.4f} cannot be reached with these grain sizes: after {} attempts the densest "
-        "overlap-free packing found has porosity {:.4f} (TATB area fraction {:.4f}, grains shrunk by {:.3f}). Raise porosity, add "
-        "attempts, widen [diameter_min, diameter_max] or change the mode shares (a larger size ratio "
-        "between the modes packs denser).",
-        spec.porosity, spec.attempts, reached, kept / box_area, shrink));
+    throw InputError(
+        fmt::format("packing.porosity: {:.4f} cannot be reached with these grain sizes: after {} attempts the densest "
+                    "overlap-free packing found has porosity {:.4f} (TATB area fraction {:.4f}, grains shrunk by "
+                    "{:.3f}). Raise porosity, add "
+                    "attempts, widen [diameter_min, diameter_max] or change the mode shares (a larger size ratio "
+                    "between the modes packs denser).",
+                    spec.porosity, spec.attempts, reached, kept / box_area, shrink));
   }
 
   // Coat thickness from the exact mass balance: union(coats) - TATB = beta * TATB. The union area
@@ -302,8 +304,8 @@ Packing generate_packing(const PackingSpec& spec) {
   colour_grains(p);
   measure(p);
   if (std::abs(p.stats.porosity - spec.porosity) > spec.tolerance)
-    throw InputError(fmt::format("packing.porosity: reached {:.5f} instead of {:.5f} (tolerance {})",
-                                 p.stats.porosity, spec.porosity, spec.tolerance));
+    throw InputError(fmt::format("packing.porosity: reached {:.5f} instead of {:.5f} (tolerance {})", p.stats.porosity,
+                                 spec.porosity, spec.tolerance));
   return p;
 }
 

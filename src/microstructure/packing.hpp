@@ -26,17 +26,17 @@ struct Grain {
 // Segmented picture (image import): the phase of every pixel, row 0 at the bottom of the box.
 struct PhaseImage {
   int nx = 0, ny = 0;
-  double pixel = 0;           // m, square pixels
-  std::vector<int> label;     // nx*ny, row-major from the bottom: -2 void, -1 binder, >= 0 grain
+  double pixel = 0;        // m, square pixels
+  std::vector<int> label;  // nx*ny, row-major from the bottom: -2 void, -1 binder, >= 0 grain
 };
 
 struct PackingStats {
-  double porosity = 0;              // void area / box area
-  double density = 0;               // kg/m3, mean over the box (voids empty)
-  double tmd = 0;                   // kg/m3, theoretical maximum density (no voids)
-  double tatb_area_fraction = 0;    // of the box
-  double binder_area_fraction = 0;  // of the box
-  double tatb_mass_fraction = 0;    // of the solids
+  double porosity = 0;                // void area / box area
+  double density = 0;                 // kg/m3, mean over the box (voids empty)
+  double tmd = 0;                     // kg/m3, theoretical maximum density (no voids)
+  double tatb_area_fraction = 0;      // of the box
+  double binder_area_fraction = 0;    // of the box
+  double tatb_mass_fraction = 0;      // of the solids
   double coat_min = 0, coat_max = 0;  // m
   int colours = 0;
   int grains_coarse = 0, grains_fine = 0;
@@ -60,15 +60,15 @@ struct Packing {
 struct PackingSpec {
   Eigen::Vector2d box{1.0e-3, 1.2e-3};
   SizeDistribution sizes;
-  double tatb_mass = 95, binder_mass = 5;  // TATB:binder mass ratio (parts)
+  double tatb_mass = 95, binder_mass = 5;             // TATB:binder mass ratio (parts)
   double tatb_density = 1934, binder_density = 2020;  // kg/m3
-  double porosity = 0.08;                  // target (a deck `density` is converted to this)
-  double tolerance = 0.002;                // allowed |achieved - target| porosity
+  double porosity = 0.08;                             // target (a deck `density` is converted to this)
+  double tolerance = 0.002;                           // allowed |achieved - target| porosity
   std::uint64_t seed = 1;
-  bool uniform_coat = false;               // uniform thickness, else proportional to diameter
-  double contact_gap = 2e-6;               // m
+  bool uniform_coat = false;  // uniform thickness, else proportional to diameter
+  double contact_gap = 2e-6;  // m
   bool periodic = true;
-  int attempts = 8;                        // packings tried (different placements) before failing
+  int attempts = 8;  // packings tried (different placements) before failing
 
   // Theoretical maximum density from the phase densities and the mass ratio.
   double tmd() const;

@@ -23,8 +23,8 @@ namespace pbx {
 namespace {
 
 // Grain tints by contact colour (TATB is yellow in micrographs): distinct, all light.
-constexpr std::uint8_t kPalette[][3] = {{240, 200, 60},  {230, 140, 50}, {200, 220, 90}, {250, 225, 140},
-                                        {215, 170, 90},  {245, 180, 110}, {190, 190, 60}, {255, 210, 170}};
+constexpr std::uint8_t kPalette[][3] = {{240, 200, 60}, {230, 140, 50},  {200, 220, 90}, {250, 225, 140},
+                                        {215, 170, 90}, {245, 180, 110}, {190, 190, 60}, {255, 210, 170}};
 
 constexpr double kScaleBar = 100e-6;  // m
 
@@ -90,15 +90,18 @@ void write_packing(const Packing& p, const std::string& dir) {
     std::vector<int> hist(static_cast<std::size_t>(std::floor(dmax / bin)) + 1, 0);
     for (const auto& g : p.grains) ++hist[static_cast<std::size_t>(std::floor(g.diameter / bin))];
     Json h = Json::array();
-    for (std::size_t k = 0; k < hist.size(); ++k) h.push_back({{"from_um", k * 25}, {"to_um", (k + 1) * 25}, {"count", hist[k]}});
+    for (std::size_t k = 0; k < hist.size(); ++k)
+      h.push_back({{"from_um", k * 25}, {"to_um", (k + 1) * 25}, {"count", hist[k]}});
     Json js;
     js["code_version"] = fmt::format("pbxmpm {} ({})", PBXMPM_VERSION, PBXMPM_GIT);
     js["source"] = p.source;
     js["seed"] = p.seed;
     js["periodic"] = p.periodic;
     js["box_m"] = json_numbers({p.box.x(), p.box.y()});
-    js["picture"] = fmt::format("packing.png: TATB tinted by contact colour, binder dark green, voids white; "
-                                "the black bar below the box is {:g} um long", kScaleBar * 1e6);
+    js["picture"] = fmt::format(
+        "packing.png: TATB tinted by contact colour, binder dark green, voids white; "
+        "the black bar below the box is {:g} um long",
+        kScaleBar * 1e6);
     js["porosity"] = s.porosity;
     js["density_kg_m3"] = s.density;
     js["tmd_kg_m3"] = s.tmd;
@@ -142,9 +145,7 @@ Packing read_packing(const std::string& dir) {
   int lineno = 0;
   std::vector<int> grain_line;  // the file line of each grain, for the messages
   bool header = false;
-  auto bad = [&](const std::string& what) {
-    throw InputError(fmt::format("{}:{}: {}", file, lineno, what));
-  };
+  auto bad = [&](const std::string& what) { throw InputError(fmt::format("{}:{}: {}", file, lineno, what)); };
   while (std::getline(in, line)) {
     ++lineno;
     if (line.empty()) continue;
@@ -156,16 +157,26 @@ Packing read_packing(const std::string& dir) {
       key.erase(key.find_last_not_of(' ') + 1);
       const std::string val = line.substr(eq + 1);
       try {
-        if (key == "box_width_m") p.box.x() = std::stod(val);
-        else if (key == "box_height_m") p.box.y() = std::stod(val);
-        else if (key == "periodic") p.periodic = std::stoi(val) != 0;
-        else if (key == "seed") p.seed = std::stoull(val);
-        else if (key == "tatb_density_kg_m3") p.tatb_density = std::stod(val);
-        else if (key == "binder_density_kg_m3") p.binder_density = std::stod(val);
-        else if (key == "contact_gap_m") p.contact_gap = std::stod(val);
-        else if (key == "image_nx") p.image.nx = std::stoi(val);
-        else if (key == "image_ny") p.image.ny = std::stoi(val);
-        else if (key == "image_pixel_m") p.image.pixel = std::stod(val);
+        if (key == "box_width_m")
+          p.box.x() = std::stod(val);
+        else if (key == "box_height_m")
+          p.box.y() = std::stod(val);
+        else if (key == "periodic")
+          p.periodic = std::stoi(val) != 0;
+        else if (key == "seed")
+          p.seed = std::stoull(val);
+        else if (key == "tatb_density_kg_m3")
+          p.tatb_density = std::stod(val);
+        else if (key == "binder_density_kg_m3")
+          p.binder_density = std::stod(val);
+        else if (key == "contact_gap_m")
+          p.contact_gap = std::stod(val);
+        else if (key == "image_nx")
+          p.image.nx = std::stoi(val);
+        else if (key == "image_ny")
+          p.image.ny = std::stoi(val);
+        else if (key == "image_pixel_m")
+          p.image.pixel = std::stod(val);
       } catch (const std::exception&) {
         bad("cannot read the value of '" + key + "'");
       }
@@ -209,8 +220,8 @@ Packing read_packing(const std::string& dir) {
     // a grain or coat larger than the box is a typo or a unit slip (mm written as m), and would
     // pass the position check below for any centre
     if (g.diameter > box_max || g.coat > box_max)
-      throw InputError(fmt::format("{}:{}: grain {} has diameter {} m and coat {} m, larger than the {} x {} m box", file,
-                                   grain_line[i], i, g.diameter, g.coat, p.box[0], p.box[1]));
+      throw InputError(fmt::format("{}:{}: grain {} has diameter {} m and coat {} m, larger than the {} x {} m box",
+                                   file, grain_line[i], i, g.diameter, g.coat, p.box[0], p.box[1]));
     for (int d = 0; d < 2; ++d)
       if (g.centre[d] < -0.5 * g.diameter || g.centre[d] > p.box[d] + 0.5 * g.diameter)
         throw InputError(fmt::format("{}: grain {} at ({}, {}) m lies outside the {} x {} m box", file, i, g.centre[0],
@@ -221,7 +232,8 @@ Packing read_packing(const std::string& dir) {
   {
     std::vector<std::size_t> order(p.grains.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.grains[a].centre.x() < p.grains[b].centre.x(); });
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return p.grains[a].centre.x() < p.grains[b].centre.x(); });
     for (std::size_t a = 0; a < order.size(); ++a)
       for (std::size_t b = a + 1; b < order.size(); ++b) {
         const Grain &ga = p.grains[order[a]], &gb = p.grains[order[b]];

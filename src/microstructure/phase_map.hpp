@@ -25,7 +25,7 @@ class PhaseMap {
 
  private:
   const Packing& p_;
-  std::vector<Disk> disks_;                 // coated circles in the box, with images
+  std::vector<Disk> disks_;  // coated circles in the box, with images
   double bucket_ = 1;
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<int>> buckets_;  // disk indices overlapping each bucket

@@ -25,14 +25,14 @@ std::vector<ParticleSeed> rasterise(const Packing& p, double cell_size, int ppc,
           const PhaseHit hit = map.at(x);
           if (hit.phase == MesoPhase::void_) continue;
           const bool tatb = hit.phase == MesoPhase::tatb;
-          out.push_back({origin + x, h * h, tatb ? 0 : 1, tatb ? hit.grain : -1,
-                         tatb ? p.grains[hit.grain].colour : -1});
+          out.push_back(
+              {origin + x, h * h, tatb ? 0 : 1, tatb ? hit.grain : -1, tatb ? p.grains[hit.grain].colour : -1});
         }
   return out;
 }
 
-RasterReport raster_report(const std::vector<ParticleSeed>& particles, const Eigen::Vector2d& box,
-                           double tatb_density, double binder_density) {
+RasterReport raster_report(const std::vector<ParticleSeed>& particles, const Eigen::Vector2d& box, double tatb_density,
+                           double binder_density) {
   RasterReport r;
   double vt = 0, vb = 0;
   for (const auto& s : particles) {

@@ -31,14 +31,14 @@ inline constexpr int kDefaultParticlesPerAxis = 2;
 
 struct RasterReport {
   std::size_t particles = 0, tatb_particles = 0, binder_particles = 0;
-  double tatb_mass_fraction = 0;  // of the solids
-  double tatb_to_binder_mass = 0; // mass ratio TATB / binder
-  double porosity = 0;            // 1 - particle area / box area
+  double tatb_mass_fraction = 0;   // of the solids
+  double tatb_to_binder_mass = 0;  // mass ratio TATB / binder
+  double porosity = 0;             // 1 - particle area / box area
 };
 
 // Mass ratio and porosity of a particle set, for given phase densities (they may differ from the
 // packing's when the run temperature expands the phases).
-RasterReport raster_report(const std::vector<ParticleSeed>& particles, const Eigen::Vector2d& box,
-                           double tatb_density, double binder_density);
+RasterReport raster_report(const std::vector<ParticleSeed>& particles, const Eigen::Vector2d& box, double tatb_density,
+                           double binder_density);
 
 }  // namespace pbx

@@ -58,8 +58,7 @@ double SizeDistribution::cdf(double d) const {
   return c[0] * mode_cdf(0, d) + c[1] * mode_cdf(1, d);
 }
 
-std::vector<SampledGrain> sample_diameters(const SizeDistribution& dist, double area, double tolerance,
-                                           Rng& rng) {
+std::vector<SampledGrain> sample_diameters(const SizeDistribution& dist, double area, double tolerance, Rng& rng) {
   const double quarter_pi = 0.25 * std::numbers::pi;
   std::vector<SampledGrain> out;
   // Draws while the area is short of `target` by more than `tol`. A draw that would overshoot by
@@ -85,17 +84,19 @@ std::vector<SampledGrain> sample_diameters(const SizeDistribution& dist, double 
   double sum = 0;
   if (dist.by_area) {
     // The fine mode fills what the coarse one left, so the total tracks `area`.
-    if (dist.modes[0].share > 0) sum = dist.modes[1].share > 0 ? fill([] { return 0; }, dist.modes[0].share * area, 0.0, true)
-                                     : fill([] { return 0; }, area, tolerance, false);
+    if (dist.modes[0].share > 0)
+      sum = dist.modes[1].share > 0 ? fill([] { return 0; }, dist.modes[0].share * area, 0.0, true)
+                                    : fill([] { return 0; }, area, tolerance, false);
     if (dist.modes[1].share > 0) sum += fill([] { return 1; }, area - sum, tolerance, false);
   } else {
     const double p0 = dist.modes[0].share;
     sum = fill([&] { return rng.uniform() < p0 ? 0 : 1; }, area, tolerance, false);
   }
   if (out.empty() || std::abs(sum - area) > tolerance)
-    throw InputError(fmt::format("grains of the requested sizes cannot make up {:.4g} mm2 of TATB to within "
-                                 "{:.3g} mm2: use smaller grains or a larger box",
-                                 area * 1e6, tolerance * 1e6));
+    throw InputError(
+        fmt::format("grains of the requested sizes cannot make up {:.4g} mm2 of TATB to within "
+                    "{:.3g} mm2: use smaller grains or a larger box",
+                    area * 1e6, tolerance * 1e6));
   return out;
 }
 

@@ -40,7 +40,6 @@ struct SampledGrain {
   double diameter;
   int mode;
 };
-std::vector<SampledGrain> sample_diameters(const SizeDistribution& dist, double area, double tolerance,
-                                           Rng& rng);
+std::vector<SampledGrain> sample_diameters(const SizeDistribution& dist, double area, double tolerance, Rng& rng);
 
 }  // namespace pbx

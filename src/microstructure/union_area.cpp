@@ -92,10 +92,10 @@ double union_area_in_box(const std::vector<Circle>& circles, const Eigen::Vector
       const double half = std::acos(offset / R);
       add_interval(cover, centre - half, centre + half);
     };
-    outside(0, W - c.x());                    // x > W
-    outside(std::numbers::pi, c.x());         // x < 0
-    outside(0.5 * std::numbers::pi, H - c.y());   // y > H
-    outside(-0.5 * std::numbers::pi, c.y());  // y < 0
+    outside(0, W - c.x());                       // x > W
+    outside(std::numbers::pi, c.x());            // x < 0
+    outside(0.5 * std::numbers::pi, H - c.y());  // y > H
+    outside(-0.5 * std::numbers::pi, c.y());     // y < 0
     std::sort(cover.begin(), cover.end());
     // Integrate over the uncovered arcs: 1/2 ∫ R^2 + R (cx cos t + cy sin t) dt.
     double t = 0;

@@ -13,30 +13,38 @@ namespace pbx {
 
 template <int D>
 struct Particles {
-  std::vector<Vec<D>> x;         // position, m
-  std::vector<Vec<D>> v;         // velocity, m/s
-  std::vector<double> mass;      // physical mass per unit depth (2D: kg/m), unscaled
-  std::vector<double> volume0;   // reference volume (2D: m^2 per unit depth)
-  std::vector<double> volume;    // current volume = J * volume0
-  std::vector<Mat<D>> F;         // deformation gradient
-  std::vector<Mat<D>> L;         // velocity gradient used by the last stress update, 1/s
-  std::vector<Sym3> stress;      // Cauchy stress, Pa (plane strain keeps zz)
+  std::vector<Vec<D>> x;               // position, m
+  std::vector<Vec<D>> v;               // velocity, m/s
+  std::vector<double> mass;            // physical mass per unit depth (2D: kg/m), unscaled
+  std::vector<double> volume0;         // reference volume (2D: m^2 per unit depth)
+  std::vector<double> volume;          // current volume = J * volume0
+  std::vector<Mat<D>> F;               // deformation gradient
+  std::vector<Mat<D>> L;               // velocity gradient used by the last stress update, 1/s
+  std::vector<Sym3> stress;            // Cauchy stress, Pa (plane strain keeps zz)
   std::vector<std::int32_t> material;  // index into the run's material list
   std::vector<std::int32_t> field;     // contact (velocity) field index
   std::vector<std::uint32_t> slot;     // history slot inside the particle's material
   // Only with a binder_layer contact law (contact/binder_layer.hpp), else empty: the reference
   // position (the layer's jump is a displacement difference) and whether the particle lies at a
   // bonded grain-grain contact (set once by build_scene).
-  std::vector<Vec<D>> X0;              // m
-  std::vector<std::uint8_t> bonded;    // 0 or 1
-  std::vector<Vec<D>> N0;              // bonded: unit normal of its contact, towards the other grain
-  std::vector<double> layer_inv_t;     // bonded: 1 / thickness of its contact's layer, 1/m (0 if not bonded)
+  std::vector<Vec<D>> X0;            // m
+  std::vector<std::uint8_t> bonded;  // 0 or 1
+  std::vector<Vec<D>> N0;            // bonded: unit normal of its contact, towards the other grain
+  std::vector<double> layer_inv_t;   // bonded: 1 / thickness of its contact's layer, 1/m (0 if not bonded)
 
   std::size_t size() const { return x.size(); }
 
   void reserve(std::size_t n) {
-    x.reserve(n); v.reserve(n); mass.reserve(n); volume0.reserve(n); volume.reserve(n);
-    F.reserve(n); L.reserve(n); stress.reserve(n); material.reserve(n); field.reserve(n);
+    x.reserve(n);
+    v.reserve(n);
+    mass.reserve(n);
+    volume0.reserve(n);
+    volume.reserve(n);
+    F.reserve(n);
+    L.reserve(n);
+    stress.reserve(n);
+    material.reserve(n);
+    field.reserve(n);
     slot.reserve(n);
   }
 
@@ -60,8 +68,17 @@ struct Particles {
         done[k] = true;
       }
     };
-    permute(x); permute(v); permute(mass); permute(volume0); permute(volume);
-    permute(F); permute(L); permute(stress); permute(material); permute(field); permute(slot);
+    permute(x);
+    permute(v);
+    permute(mass);
+    permute(volume0);
+    permute(volume);
+    permute(F);
+    permute(L);
+    permute(stress);
+    permute(material);
+    permute(field);
+    permute(slot);
     if (!X0.empty()) permute(X0);
     if (!bonded.empty()) permute(bonded);
     if (!N0.empty()) permute(N0);

@@ -19,11 +19,11 @@
 namespace pbx {
 
 struct StripBins {
-  long width = 3;   // cells per strip
+  long width = 3;  // cells per strip
   long strips = 0;
-  std::vector<long> begin;           // home range of strip s: [begin[s], begin[s + 1])
-  std::vector<std::uint8_t> stray;   // per particle: outside its home strip
-  std::vector<std::uint32_t> strays; // the strays, ascending
+  std::vector<long> begin;            // home range of strip s: [begin[s], begin[s + 1])
+  std::vector<std::uint8_t> stray;    // per particle: outside its home strip
+  std::vector<std::uint32_t> strays;  // the strays, ascending
 
   void setup(long cells_x) {
     width = std::max(3L, cells_x / 32);

@@ -17,8 +17,8 @@ namespace {
 // Particles bucketed by grid cell (counting sort): neighbour searches within a few cells.
 template <int D>
 struct CellBuckets {
-  std::vector<long> start;          // per cell, into order
-  std::vector<std::uint32_t> order; // particle indices, cell by cell
+  std::vector<long> start;           // per cell, into order
+  std::vector<std::uint32_t> order;  // particle indices, cell by cell
   std::array<long, D> n{};
   double inv_h = 0;
   Vec<D> origin;
@@ -35,11 +35,13 @@ struct CellBuckets {
     std::partial_sum(start.begin(), start.end(), start.begin());
     order.resize(x.size());
     std::vector<long> fill(start.begin(), start.end() - 1);
-    for (std::size_t p = 0; p < x.size(); ++p) order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell[p])]++)] = static_cast<std::uint32_t>(p);
+    for (std::size_t p = 0; p < x.size(); ++p)
+      order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell[p])]++)] = static_cast<std::uint32_t>(p);
   }
   std::array<long, D> coords(const Vec<D>& x) const {
     std::array<long, D> c;
-    for (int d = 0; d < D; ++d) c[d] = std::clamp(static_cast<long>(std::floor((x[d] - origin[d]) * inv_h)), 0L, n[d] - 1);
+    for (int d = 0; d < D; ++d)
+      c[d] = std::clamp(static_cast<long>(std::floor((x[d] - origin[d]) * inv_h)), 0L, n[d] - 1);
     return c;
   }
   long index(const std::array<long, D>& c) const {
@@ -53,7 +55,8 @@ struct CellBuckets {
   bool any_near(const Vec<D>& x, long reach, F&& f) const {
     const auto c = coords(x);
     std::array<long, D> lo, hi, k;
-    for (int d = 0; d < D; ++d) lo[d] = std::max(0L, c[d] - reach), hi[d] = std::min(n[d] - 1, c[d] + reach), k[d] = lo[d];
+    for (int d = 0; d < D; ++d)
+      lo[d] = std::max(0L, c[d] - reach), hi[d] = std::min(n[d] - 1, c[d] + reach), k[d] = lo[d];
     while (true) {
       const long cell = index(k);
       for (long j = start[static_cast<std::size_t>(cell)]; j < start[static_cast<std::size_t>(cell) + 1]; ++j)
@@ -81,7 +84,8 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       LayerLaw& law = cm.layers[k++];
       if (law.binder.empty()) continue;
       const auto it = std::find(sc.material_names.begin(), sc.material_names.end(), law.binder);
-      if (it == sc.material_names.end()) p.fail("binder", fmt::format("no material named '{}' in [materials]", law.binder));
+      if (it == sc.material_names.end())
+        p.fail("binder", fmt::format("no material named '{}' in [materials]", law.binder));
       MaterialContext ctx;
       ctx.temperature = sc.control.temperature;
       ctx.name = law.binder;
@@ -98,8 +102,9 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   const double h = sc.grid.h, spacing = h / sc.settings.ppc;
   const bool coats = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.from_coats; });
   if (coats && sc.grain_coat.size() != np)
-    root.table("contact").fail("pair", "binder_layer thickness = \"coats\" needs a packed specimen ([specimen] with [packing] "
-                                       "or specimen.packing_dir): the coats come from its grains");
+    root.table("contact").fail("pair",
+                               "binder_layer thickness = \"coats\" needs a packed specimen ([specimen] with [packing] "
+                               "or specimen.packing_dir): the coats come from its grains");
   // the thickness of a contact's layer: one value, or the two grains' coats
   const auto thickness = [&](const LayerLaw& L, std::size_t p, std::size_t q) {
     return L.from_coats ? L.coat_scale * (sc.grain_coat[p] + sc.grain_coat[q]) : L.thickness;
@@ -115,7 +120,8 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     return l.integrated ? std::max(reach_of(l, t), l.film_extent * t) : reach_of(l, t);
   };
   double gap = 0;  // the search reach: the largest of any law
-  for (const auto& l : cm.layers) gap = std::max(gap, search_of(l, l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness));
+  for (const auto& l : cm.layers)
+    gap = std::max(gap, search_of(l, l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness));
   const double touch_r = 1.01 * spacing + gap, bond_r = 2.0 * h;
   const auto layer_pair = [&](int a, int b) {
     return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
@@ -123,19 +129,24 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   const CellBuckets<D> cells(sc.grid, P.x);
   // touching particles, their contact normal (the mean direction to the touching particles of
   // the other side) and their layer's thickness (the two grains' coats with thickness = "coats")
-  const auto pair_law = [&](int a, int b) -> const LayerLaw& { return cm.layers[static_cast<std::size_t>(cm(a, b).layer)]; };
+  const auto pair_law = [&](int a, int b) -> const LayerLaw& {
+    return cm.layers[static_cast<std::size_t>(cm(a, b).layer)];
+  };
   std::vector<std::uint8_t> touching(np, 0);
   std::vector<Vec<D>> toward(np, Vec<D>::Zero());
   std::vector<double> inv_t(np, 0.0);
   // film = "integrated": per particle its nearest particle of another body, the local gap and
   // thickness there, and whether it faces that body (no particle of its own in front of it)
-  const bool integrated = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.integrated; });
+  const bool integrated =
+      std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.integrated; });
   if (integrated && sc.grain_index.size() != np)
-    root.table("contact").fail("pair", "film = \"integrated\" needs the bodies of the particles (packed grains or [[geometry]] entries)");
+    root.table("contact").fail(
+        "pair", "film = \"integrated\" needs the bodies of the particles (packed grains or [[geometry]] entries)");
   std::vector<int> other(np, -1);
   std::vector<double> local_gap(np, 0.0), local_t(np, 0.0), extent(np, 0.0);
   std::vector<std::uint8_t> faces(np, 0);
-  const long touch_cells = static_cast<long>(std::ceil(touch_r / h)), bond_cells = static_cast<long>(std::ceil(bond_r / h));
+  const long touch_cells = static_cast<long>(std::ceil(touch_r / h)),
+             bond_cells = static_cast<long>(std::ceil(bond_r / h));
 #pragma omp parallel for schedule(static)
   for (std::size_t p = 0; p < np; ++p) {
     Vec<D> sum = Vec<D>::Zero();
@@ -203,8 +214,10 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   }
   for (std::size_t p = 0; p < np; ++p)
     if (touching[p] && !(std::isfinite(inv_t[p]) && inv_t[p] > 0.0))
-      root.table("contact").fail("pair", fmt::format("binder_layer: particle {} at ({:.4g}, {:.4g}) m touches a grain with no "
-                                                     "binder coat (zero layer thickness)", p, P.x[p][0], P.x[p][1]));
+      root.table("contact").fail("pair",
+                                 fmt::format("binder_layer: particle {} at ({:.4g}, {:.4g}) m touches a grain with no "
+                                             "binder coat (zero layer thickness)",
+                                             p, P.x[p][0], P.x[p][1]));
   // bonded particles: within two cells of a touching particle of their own field; their normal
   // and 1/t are the means of those particles'
   P.N0.assign(np, Vec<D>::Zero());
@@ -215,7 +228,8 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     double scale_sum = 0;
     int n = 0;
     cells.any_near(P.x[p], bond_cells, [&](std::uint32_t q) {
-      if (touching[q] && P.field[q] == P.field[p] && (P.x[q] - P.x[p]).norm() <= bond_r) sum += toward[q], scale_sum += inv_t[q], ++n;
+      if (touching[q] && P.field[q] == P.field[p] && (P.x[q] - P.x[p]).norm() <= bond_r)
+        sum += toward[q], scale_sum += inv_t[q], ++n;
       return false;
     });
     const double len = sum.norm();

@@ -86,12 +86,14 @@ void Solver<D>::particle_pass_impl() {
           ++count[static_cast<std::size_t>(P.material[p])];
         }
         if (worst == kNone) {
-          MaterialStepResult& res = results[static_cast<std::size_t>(chunk_begin_[static_cast<std::size_t>(s)] + (c0 - b) / kPassChunk)];
+          MaterialStepResult& res =
+              results[static_cast<std::size_t>(chunk_begin_[static_cast<std::size_t>(s)] + (c0 - b) / kPassChunk)];
           for (std::size_t m = 0; m < nm; ++m) {
             if (count[m] == 0) continue;
             auto& state = sc_.material_state[m];
             MaterialBatch<D> batch;
-            batch.index = std::span<const std::uint32_t>(state.index.data() + cursor[m], static_cast<std::size_t>(count[m]));
+            batch.index =
+                std::span<const std::uint32_t>(state.index.data() + cursor[m], static_cast<std::size_t>(count[m]));
             batch.L = P.L.data();
             batch.F = P.F.data();
             batch.mass = P.mass.data();
@@ -107,7 +109,8 @@ void Solver<D>::particle_pass_impl() {
           }
           for (long p = c0; p < c1; ++p) {
             const Sym3& st = P.stress[p];
-            if (!std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx)) worst = std::min(worst, static_cast<std::uint32_t>(p));
+            if (!std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx))
+              worst = std::min(worst, static_cast<std::uint32_t>(p));
           }
         }
         for (std::size_t m = 0; m < nm; ++m) cursor[m] += count[m];
@@ -127,8 +130,8 @@ void Solver<D>::particle_pass_impl() {
   vmax_ = std::sqrt(vmax2);
 
   if (bad_v != kNone)
-    throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
-                                       steps_, bad_v, sc_.material_names[P.material[bad_v]]));
+    throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity", steps_, bad_v,
+                                       sc_.material_names[P.material[bad_v]]));
   if (bad_s != kNone) stop_on_bad_stress(bad_s);
   double cmax = 0;
   for (const auto& r : results) {

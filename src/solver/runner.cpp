@@ -87,7 +87,8 @@ class StopSignals {
 
  private:
   bool on_;
-  struct sigaction old_int_ {}, old_term_ {};
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 std::string hms(double s) {
@@ -104,10 +105,27 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   if (!threads_.note.empty()) std::fprintf(stderr, "pbxmpm: note: %s\n", threads_.note.c_str());
   tty_ = isatty(STDERR_FILENO);
   const char* axes = "xyz";
-  columns_ = {"step", "t_s", "dt_s", "strain", "punch_velocity_m_s", "punch_force_N_per_m", "punch_stress_Pa",
-              "wall_left_force_N_per_m", "wall_right_force_N_per_m", "wall_bottom_force_N_per_m",
-              "wall_stress_Pa", "sxx_Pa", "syy_Pa", "szz_Pa", "sxy_Pa", "kinetic_J_per_m", "internal_J_per_m",
-              "dissipated_J_per_m", "punch_work_J_per_m", "ke_ie", "mass_kg_per_m"};
+  columns_ = {"step",
+              "t_s",
+              "dt_s",
+              "strain",
+              "punch_velocity_m_s",
+              "punch_force_N_per_m",
+              "punch_stress_Pa",
+              "wall_left_force_N_per_m",
+              "wall_right_force_N_per_m",
+              "wall_bottom_force_N_per_m",
+              "wall_stress_Pa",
+              "sxx_Pa",
+              "syy_Pa",
+              "szz_Pa",
+              "sxy_Pa",
+              "kinetic_J_per_m",
+              "internal_J_per_m",
+              "dissipated_J_per_m",
+              "punch_work_J_per_m",
+              "ke_ie",
+              "mass_kg_per_m"};
   for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("momentum_{}_N_s_per_m", axes[d]));
   for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("com_v{}_m_s", axes[d]));
   for (auto& b : sc_.bodies)
@@ -145,8 +163,8 @@ template <int D>
 void Runner<D>::clear_previous_run() const {
   namespace fs = std::filesystem;
   const fs::path dir(opt_.out_dir);
-  for (const char* f : {"run.json", "run.json.tmp", "history.csv", "analysis.json", "analysis.json.tmp", "checkpoint.h5",
-                        "checkpoint.h5.tmp"})
+  for (const char* f : {"run.json", "run.json.tmp", "history.csv", "analysis.json", "analysis.json.tmp",
+                        "checkpoint.h5", "checkpoint.h5.tmp"})
     fs::remove(dir / f);
   const fs::path snaps = dir / "snapshots";
   if (fs::is_directory(snaps)) {
@@ -179,7 +197,11 @@ Measurement Runner<D>::measure() {
     Sym3 sv;
     Vec<D> p = Vec<D>::Zero();
     Sums& operator+=(const Sums& o) {
-      vol += o.vol; mass += o.mass; ke += o.ke; sv += o.sv; p += o.p;
+      vol += o.vol;
+      mass += o.mass;
+      ke += o.ke;
+      sv += o.sv;
+      p += o.p;
       return *this;
     }
   };
@@ -250,24 +272,42 @@ std::string Runner<D>::first_non_finite_particle() const {
   const auto& P = sc_.particles;
   for (std::size_t p = 0; p < P.size(); ++p) {
     const Sym3& st = P.stress[p];
-    const char* what = !std::isfinite(P.mass[p]) ? "mass"
-                       : !std::isfinite(P.volume[p]) ? "volume"
-                       : !P.x[p].allFinite() ? "position"
-                       : !P.v[p].allFinite() ? "velocity"
+    const char* what = !std::isfinite(P.mass[p])                                       ? "mass"
+                       : !std::isfinite(P.volume[p])                                   ? "volume"
+                       : !P.x[p].allFinite()                                           ? "position"
+                       : !P.v[p].allFinite()                                           ? "velocity"
                        : !std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx) ? "stress"
-                                                                                      : nullptr;
+                                                                                       : nullptr;
     if (what)
-      return fmt::format("; particle {} (material '{}') has a non-finite {}", p, sc_.material_names[P.material[p]], what);
+      return fmt::format("; particle {} (material '{}') has a non-finite {}", p, sc_.material_names[P.material[p]],
+                         what);
   }
   return "";
 }
 
 template <int D>
 std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
-  std::vector<double> v = {0, m.t, m.dt, m.strain, m.punch_velocity, m.punch_force, m.punch_stress,
-                           m.wall_left, m.wall_right, m.wall_bottom, m.wall_stress, m.mean_stress.xx,
-                           m.mean_stress.yy, m.mean_stress.zz, m.mean_stress.xy, m.kinetic, m.internal,
-                           m.dissipated, m.punch_work, m.ke_ie, m.mass};
+  std::vector<double> v = {0,
+                           m.t,
+                           m.dt,
+                           m.strain,
+                           m.punch_velocity,
+                           m.punch_force,
+                           m.punch_stress,
+                           m.wall_left,
+                           m.wall_right,
+                           m.wall_bottom,
+                           m.wall_stress,
+                           m.mean_stress.xx,
+                           m.mean_stress.yy,
+                           m.mean_stress.zz,
+                           m.mean_stress.xy,
+                           m.kinetic,
+                           m.internal,
+                           m.dissipated,
+                           m.punch_work,
+                           m.ke_ie,
+                           m.mass};
   for (double x : m.momentum) v.push_back(x);
   for (double x : m.com_velocity) v.push_back(x);
   for (auto& f : m.body_force)
@@ -319,7 +359,8 @@ void Runner<D>::write_snapshot() {
     s.von_mises[p] = st.von_mises();
     const auto m = static_cast<std::size_t>(P.material[p]);
     const int hs = sc_.materials[m]->history_size();
-    s.plastic_strain[p] = hs > 0 ? sc_.materials[m]->plastic_strain(sc_.material_state[m].history.data() + P.slot[p] * hs) : 0.0;
+    s.plastic_strain[p] =
+        hs > 0 ? sc_.materials[m]->plastic_strain(sc_.material_state[m].history.data() + P.slot[p] * hs) : 0.0;
   }
   snapshots_.write(s);
 }
@@ -344,8 +385,11 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   Json specimen;  // null without a die
   if (sc_.die) {
     const double box = sc_.die->width * sc_.die->height;
-    specimen = {{"density_kg_m3", mass / box}, {"porosity", 1.0 - vol / box}, {"tmd_kg_m3", mass / vol},
-                {"width_m", sc_.die->width}, {"height_m", sc_.die->height}};
+    specimen = {{"density_kg_m3", mass / box},
+                {"porosity", 1.0 - vol / box},
+                {"tmd_kg_m3", mass / vol},
+                {"width_m", sc_.die->width},
+                {"height_m", sc_.die->height}};
     if (sc_.packing_stats) {  // the packed geometry's porosity, which the particles rasterise
       specimen["packing_porosity"] = sc_.packing_stats->porosity;
       specimen["colours"] = sc_.packing_stats->colours;
@@ -353,12 +397,18 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   }
   Json mats = Json::array();
   for (std::size_t m = 0; m < sc_.materials.size(); ++m)
-    mats.push_back({{"name", sc_.material_names[m]}, {"model", sc_.materials[m]->model()},
-                    {"density_kg_m3", sc_.materials[m]->density()}, {"particles", sc_.material_state[m].index.size()}});
+    mats.push_back({{"name", sc_.material_names[m]},
+                    {"model", sc_.materials[m]->model()},
+                    {"density_kg_m3", sc_.materials[m]->density()},
+                    {"particles", sc_.material_state[m].index.size()}});
   std::size_t rigid = 0;
   for (auto& b : sc_.bodies) rigid += b.x.size();
   // rounded where more digits would only be noise (wall clock, memory)
-  auto rounded = [](double x, double unit) { return std::round(x / unit) * unit; };
+  // (x * 10^d rounded, then divided: the nearest double to the decimal, which prints short)
+  auto rounded = [](double x, int decimals) {
+    const double scale = std::pow(10.0, decimals);
+    return std::round(x * scale) / scale;
+  };
   Json j;
   j["status"] = status;
   j["message"] = message;
@@ -376,10 +426,10 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   j["fields"] = sc_.grid.fields;
   j["steps"] = solver_.step_count();
   j["time_s"] = solver_.time();
-  j["wall_time_s"] = rounded(wall, 1e-4);
+  j["wall_time_s"] = rounded(wall, 4);
   j["restarts"] = restarts_;
-  j["particle_updates_per_s"] = wall > 0 ? rounded(static_cast<double>(P.size()) * steps / wall, 1.0) : 0.0;
-  j["peak_memory_MB"] = rounded(peak_memory_mb(), 0.1);
+  j["particle_updates_per_s"] = wall > 0 ? rounded(static_cast<double>(P.size()) * steps / wall, 0) : 0.0;
+  j["peak_memory_MB"] = rounded(peak_memory_mb(), 1);
   j["field_overlap_pixel_m"] = overlap_ ? Json(overlap_->pixel()) : Json();
   j["temperature_K"] = sc_.control.temperature;
   j["mass_scaling"] = sc_.settings.mass_scaling;
@@ -417,10 +467,10 @@ void Runner<D>::report_progress(const Measurement& m, bool final) {
   const double wall = now_s() - wall_start_;
   const double rate = wall > 0 ? static_cast<double>(solver_.step_count() - steps_at_start_) / wall : 0;
   const double eta = study_eta_s(wall, frac, frac_at_start_, 0);
-  const std::string study =
-      opt_.progress_label.empty()
-          ? std::string()
-          : fmt::format("  ({}, study ETA {})", opt_.progress_label, hms(study_eta_s(wall, frac, frac_at_start_, opt_.runs_after)));
+  const std::string study = opt_.progress_label.empty()
+                                ? std::string()
+                                : fmt::format("  ({}, study ETA {})", opt_.progress_label,
+                                              hms(study_eta_s(wall, frac, frac_at_start_, opt_.runs_after)));
   if (tty_) {
     const int width = 30, fill = static_cast<int>(frac * width);
     std::fprintf(stderr, "\r[%s%s] %5.1f%%  strain %6.3f%%  punch %8.3f MPa  %7.0f steps/s  ETA %s%s%s",
@@ -433,7 +483,8 @@ void Runner<D>::report_progress(const Measurement& m, bool final) {
     // terminal) must still show it is alive
     last_progress_ = frac;
     last_progress_wall_ = wall;
-    std::fprintf(stderr, "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s%s\n",
+    std::fprintf(stderr,
+                 "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s%s\n",
                  100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str(), study.c_str());
   }
 }
@@ -471,27 +522,44 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
   c.code_versions = this_and_earlier_versions();
   c.run_id = run_id_;
   const auto st = solver_.state();
-  c.scalars = {{"t", st.t}, {"dt", st.dt}, {"cmax", st.cmax}, {"vmax", st.vmax}, {"internal", st.internal},
-               {"dissipated", st.dissipated}, {"steps", static_cast<double>(st.steps)},
-               {"t_last_row", t_last_row_}, {"punch_work", punch_work_}, {"next_row", static_cast<double>(next_row_)},
-               {"next_snapshot", static_cast<double>(next_snapshot_)}, {"rows_written", static_cast<double>(rows_written_)},
-               {"particles", static_cast<double>(P.size())}, {"layout", layout_fingerprint(P)},
-               {"wall_s", wall_before_ + now_s() - wall_start_}, {"restarts", static_cast<double>(restarts_)}};
+  c.scalars = {{"t", st.t},
+               {"dt", st.dt},
+               {"cmax", st.cmax},
+               {"vmax", st.vmax},
+               {"internal", st.internal},
+               {"dissipated", st.dissipated},
+               {"steps", static_cast<double>(st.steps)},
+               {"t_last_row", t_last_row_},
+               {"punch_work", punch_work_},
+               {"next_row", static_cast<double>(next_row_)},
+               {"next_snapshot", static_cast<double>(next_snapshot_)},
+               {"rows_written", static_cast<double>(rows_written_)},
+               {"particles", static_cast<double>(P.size())},
+               {"layout", layout_fingerprint(P)},
+               {"wall_s", wall_before_ + now_s() - wall_start_},
+               {"restarts", static_cast<double>(restarts_)}};
   auto flat = [&](const std::string& name, auto const& vec, int comps, auto get) {
     std::vector<double> out;
     out.reserve(vec.size() * static_cast<std::size_t>(comps));
     for (const auto& e : vec) get(e, out);
     c.arrays[name] = std::move(out);
   };
-  auto vec_get = [](const Vec<D>& e, std::vector<double>& o) { for (int d = 0; d < D; ++d) o.push_back(e[d]); };
-  auto mat_get = [](const Mat<D>& e, std::vector<double>& o) { for (int k = 0; k < D * D; ++k) o.push_back(e.data()[k]); };
+  auto vec_get = [](const Vec<D>& e, std::vector<double>& o) {
+    for (int d = 0; d < D; ++d) o.push_back(e[d]);
+  };
+  auto mat_get = [](const Mat<D>& e, std::vector<double>& o) {
+    for (int k = 0; k < D * D; ++k) o.push_back(e.data()[k]);
+  };
   flat("x", P.x, D, vec_get);
   flat("v", P.v, D, vec_get);
   flat("F", P.F, D * D, mat_get);
   flat("L", P.L, D * D, mat_get);
-  flat("stress", P.stress, 6, [](const Sym3& e, std::vector<double>& o) { o.insert(o.end(), {e.xx, e.yy, e.zz, e.xy, e.yz, e.zx}); });
+  flat("stress", P.stress, 6, [](const Sym3& e, std::vector<double>& o) {
+    o.insert(o.end(), {e.xx, e.yy, e.zz, e.xy, e.yz, e.zx});
+  });
   c.arrays["volume"] = P.volume;
-  for (std::size_t m = 0; m < sc_.material_state.size(); ++m) c.arrays[fmt::format("history_{}", m)] = sc_.material_state[m].history;
+  for (std::size_t m = 0; m < sc_.material_state.size(); ++m)
+    c.arrays[fmt::format("history_{}", m)] = sc_.material_state[m].history;
   std::vector<double> snaps;
   for (auto& [t, n] : snapshots_.written()) snaps.insert(snaps.end(), {t, static_cast<double>(n)});
   c.arrays["snapshots"] = snaps;
@@ -517,9 +585,10 @@ void Runner<D>::resume(const CheckpointData& c) {
   if (!opt_.out_dir.empty()) {
     const std::string here = run_id_in(opt_.out_dir);
     if (!here.empty() && here != c.run_id)
-      throw InputError(fmt::format("restart: '{}' holds another run (run_id {}) than the checkpoint's ({}); a checkpoint "
-                                   "continues only in its own run's folder",
-                                   opt_.out_dir, here, c.run_id.empty() ? "not recorded" : c.run_id));
+      throw InputError(
+          fmt::format("restart: '{}' holds another run (run_id {}) than the checkpoint's ({}); a checkpoint "
+                      "continues only in its own run's folder",
+                      opt_.out_dir, here, c.run_id.empty() ? "not recorded" : c.run_id));
   }
   run_id_ = c.run_id.empty() ? new_run_id() : c.run_id;
   const std::size_t n = P.size();
@@ -527,8 +596,9 @@ void Runner<D>::resume(const CheckpointData& c) {
     throw InputError("checkpoint particle count differs from the deck's: the deck or packing changed");
   // absent from checkpoints written before 2026-12-02: not checked for them
   if (auto it = c.scalars.find("layout"); it != c.scalars.end() && it->second != layout_fingerprint(P))
-    throw InputError("checkpoint particles (materials, fields or masses) differ from the deck's at the same count: "
-                     "the packing, or the code that builds the specimen, changed; rerun from the start");
+    throw InputError(
+        "checkpoint particles (materials, fields or masses) differ from the deck's at the same count: "
+        "the packing, or the code that builds the specimen, changed; rerun from the start");
   const auto& x = array("x", n * D);
   const auto& v = array("v", n * D);
   const auto& F = array("F", n * D * D);
@@ -548,8 +618,13 @@ void Runner<D>::resume(const CheckpointData& c) {
   }
   for (std::size_t m = 0; m < sc_.material_state.size(); ++m)
     sc_.material_state[m].history = array(fmt::format("history_{}", m), sc_.material_state[m].history.size());
-  typename Solver<D>::State st{scalar("t"), scalar("dt"), scalar("cmax"), scalar("vmax"), scalar("internal"),
-                               scalar("dissipated"), static_cast<long>(scalar("steps"))};
+  typename Solver<D>::State st{scalar("t"),
+                               scalar("dt"),
+                               scalar("cmax"),
+                               scalar("vmax"),
+                               scalar("internal"),
+                               scalar("dissipated"),
+                               static_cast<long>(scalar("steps"))};
   solver_.restore(st);
   t_last_row_ = scalar("t_last_row");
   punch_work_ = scalar("punch_work");
@@ -564,7 +639,8 @@ void Runner<D>::resume(const CheckpointData& c) {
   restarts_ = (c.scalars.count("restarts") ? static_cast<int>(c.scalars.at("restarts")) : 0) + 1;
   const auto& snaps = c.arrays.count("snapshots") ? c.arrays.at("snapshots") : std::vector<double>{};
   std::vector<std::pair<double, std::size_t>> w;
-  for (std::size_t i = 0; i + 1 < snaps.size(); i += 2) w.emplace_back(snaps[i], static_cast<std::size_t>(snaps[i + 1]));
+  for (std::size_t i = 0; i + 1 < snaps.size(); i += 2)
+    w.emplace_back(snaps[i], static_cast<std::size_t>(snaps[i + 1]));
   std::size_t rigid = 0;
   for (const auto& b : sc_.bodies) rigid += b.x.size();
   snapshots_.restore(w, rigid);
@@ -583,9 +659,10 @@ void Runner<D>::resume(const CheckpointData& c) {
     // The appended rows follow this code's columns: a history written by a version with other
     // columns (e.g. before field_overlap_m2_per_m) would get rows that do not match its header.
     if (kept.substr(0, kept.find('\n')) != CsvWriter::header(columns_))
-      throw InputError(fmt::format("restart: the columns of '{}' differ from the ones this version writes "
-                                   "(the checkpoint comes from another code version); rerun from the start",
-                                   file));
+      throw InputError(
+          fmt::format("restart: the columns of '{}' differ from the ones this version writes "
+                      "(the checkpoint comes from another code version); rerun from the start",
+                      file));
     // a run killed here keeps the history it had (which the checkpoint's restart cuts again)
     write_text_atomically(file, kept);
     history_ = CsvWriter(file, columns_, true);
@@ -649,20 +726,21 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
       const bool stop = g_stop_signal.load() != 0;
       if (stop && !told) {
         told = true;
-        std::fprintf(stderr, "%spbxmpm: %s received: finishing the run up to its next history row, then saving a "
-                             "checkpoint (a second one stops at once)\n",
+        std::fprintf(stderr,
+                     "%spbxmpm: %s received: finishing the run up to its next history row, then saving a "
+                     "checkpoint (a second one stops at once)\n",
                      tty_ && opt_.progress ? "\n" : "", g_stop_signal.load() == SIGINT ? "SIGINT" : "SIGTERM");
       }
       // Checkpoints are taken right after a row, where the force accumulators have just been
       // reset: a restart from one continues bit for bit.
       if (!row || opt_.out_dir.empty()) {
-        if (stop && opt_.out_dir.empty()) throw Interrupted("interrupted by a signal (no output folder: nothing saved)");
+        if (stop && opt_.out_dir.empty())
+          throw Interrupted("interrupted by a signal (no output folder: nothing saved)");
         continue;
       }
       const bool more = solver_.time() < t_end * (1 - 1e-12);
-      const bool periodic =
-          (opt_.checkpoint_every > 0 && rows_written_ % opt_.checkpoint_every == 0) ||
-          (opt_.checkpoint_wall_s > 0 && now_s() - last_checkpoint_wall_ >= opt_.checkpoint_wall_s);
+      const bool periodic = (opt_.checkpoint_every > 0 && rows_written_ % opt_.checkpoint_every == 0) ||
+                            (opt_.checkpoint_wall_s > 0 && now_s() - last_checkpoint_wall_ >= opt_.checkpoint_wall_s);
       if (more && (periodic || stop)) {
         write_checkpoint(checkpoint_file);
         last_checkpoint_wall_ = now_s();
@@ -696,9 +774,9 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
 template <int D>
 void Runner<D>::stop_interrupted() {
   const auto ckpt = std::filesystem::path(opt_.out_dir) / "checkpoint.h5";
-  const std::string msg = fmt::format(
-      "interrupted at step {} (t = {:.6g} s, {} history rows); continue with: pbxmpm run --restart {}",
-      solver_.step_count(), solver_.time(), rows_written_, ckpt.string());
+  const std::string msg =
+      fmt::format("interrupted at step {} (t = {:.6g} s, {} history rows); continue with: pbxmpm run --restart {}",
+                  solver_.step_count(), solver_.time(), rows_written_, ckpt.string());
   write_run_json("interrupted", msg);
   throw Interrupted(msg);
 }

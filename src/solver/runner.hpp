@@ -22,13 +22,13 @@ namespace pbx {
 // What one history row reports (die columns are zero when the run has no die).
 struct Measurement {
   double t = 0, dt = 0, strain = 0, punch_velocity = 0;
-  double punch_force = 0, punch_stress = 0;       // compression positive
+  double punch_force = 0, punch_stress = 0;  // compression positive
   double wall_left = 0, wall_right = 0, wall_bottom = 0, wall_stress = 0;
-  Sym3 mean_stress;                               // box volume average, tension positive
+  Sym3 mean_stress;  // box volume average, tension positive
   double kinetic = 0, internal = 0, dissipated = 0, punch_work = 0, ke_ie = 0;
   double mass = 0;
-  std::vector<double> momentum, com_velocity;     // D components
-  std::vector<std::vector<double>> body_force;    // per rigid body: force ON the specimen (D)
+  std::vector<double> momentum, com_velocity;   // D components
+  std::vector<std::vector<double>> body_force;  // per rigid body: force ON the specimen (D)
   // Per contact material pair (Runner::contact_pairs()): normal and shear force summed over the
   // interface nodes, then, when the materials differ, the net force on the first (D), N (per m).
   std::vector<std::vector<double>> pair_force;
@@ -40,13 +40,13 @@ struct Measurement {
 };
 
 struct RunOptions {
-  std::string out_dir;          // empty: write nothing (tests)
-  int threads = 0;              // 0: chosen from the scene size (solver/thread_count.hpp)
+  std::string out_dir;  // empty: write nothing (tests)
+  int threads = 0;      // 0: chosen from the scene size (solver/thread_count.hpp)
   bool progress = true;
-  Json deck;                    // the validated deck (for run.json)
-  Json study;                   // {"group": ..., ...} when the run belongs to a study; null otherwise
+  Json deck;                         // the validated deck (for run.json)
+  Json study;                        // {"group": ..., ...} when the run belongs to a study; null otherwise
   std::string deck_text, deck_name;  // stored in checkpoints to rebuild the scene on restart
-  int checkpoint_every = 0;     // write DIR/checkpoint.h5 every this many history rows (0 = never)
+  int checkpoint_every = 0;          // write DIR/checkpoint.h5 every this many history rows (0 = never)
   // ... and at the first history row after this many wall seconds since the last one (0 = never):
   // a long run loses at most this much to a crash or a kill -9.
   double checkpoint_wall_s = 600;

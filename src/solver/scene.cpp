@@ -62,7 +62,8 @@ double physical_memory_bytes() {
 void check_fits(const DeckTable& t, const std::string& key, double bytes, const std::string& what) {
   const double have = physical_memory_bytes();
   if (!(bytes < have))
-    t.fail(key, fmt::format("{} need about {:.3g} GB, more than this machine's {:.3g} GB", what, bytes / 1e9, have / 1e9));
+    t.fail(key,
+           fmt::format("{} need about {:.3g} GB, more than this machine's {:.3g} GB", what, bytes / 1e9, have / 1e9));
 }
 
 // A region of space a geometry entry or rigid body fills.
@@ -153,10 +154,14 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   // ---- solver settings
   if (auto s = root.optional_table("solver")) {
     const std::string integ = s->string("integrator", "usl");
-    if (integ == "musl") sc.settings.integrator = Integrator::musl;
-    else if (integ == "usl") sc.settings.integrator = Integrator::usl;
-    else if (integ == "usf") sc.settings.integrator = Integrator::usf;
-    else s->fail("integrator", "unknown integrator '" + integ + "' (known: usf, usl, musl)");
+    if (integ == "musl")
+      sc.settings.integrator = Integrator::musl;
+    else if (integ == "usl")
+      sc.settings.integrator = Integrator::usl;
+    else if (integ == "usf")
+      sc.settings.integrator = Integrator::usf;
+    else
+      s->fail("integrator", "unknown integrator '" + integ + "' (known: usf, usl, musl)");
     sc.settings.flip = s->in_range("flip", 0.0, 1.0, 0.99);
     sc.settings.cfl = s->number("cfl", 0.4);
     if (!(sc.settings.cfl > 0 && sc.settings.cfl < 1)) s->fail("cfl", "must lie in (0, 1)");
@@ -193,7 +198,8 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     for (auto [key, len] : {std::pair{"width", die.width}, std::pair{"height", die.height}}) {
       const double cells = len / h;
       if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
-        die_t->fail(key, fmt::format("must be a whole number of cells (grid.cell_size = {} m gives {} cells)", h, cells));
+        die_t->fail(key,
+                    fmt::format("must be a whole number of cells (grid.cell_size = {} m gives {} cells)", h, cells));
     }
     sc.control.end_strain = run.number("end_strain");
     if (!(sc.control.end_strain > 0 && sc.control.end_strain < 0.5)) run.fail("end_strain", "must lie in (0, 0.5)");
@@ -263,8 +269,9 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       Packing packing;
       if (spec_t->has("packing_dir")) {
         if (spec_t->has("seed"))
-          spec_t->fail("seed", "has no effect with specimen.packing_dir (the packing is read from there, not generated): "
-                               "remove one of the two");
+          spec_t->fail("seed",
+                       "has no effect with specimen.packing_dir (the packing is read from there, not generated): "
+                       "remove one of the two");
         packing = read_packing(deck.resolve(spec_t->string("packing_dir")));
       } else {
         PackingSpec ps = read_packing_spec(root.table("packing"));
@@ -290,21 +297,26 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       if (fields == "colours" && packing.image.nx == 0) {
         const int before = packing.stats.colours;
         if (const int clashes = separate_colours_within(packing, 2.0 * h); clashes > 0)
-          if (notes == SceneNotes::print) fmt::print(stderr,
-                     "pbxmpm: note: {} pair(s) of grains of one contact colour come within 2 cells ({:.3g} m) of each "
-                     "other at this cell size and would share grid nodes (one body, no contact law): re-coloured "
-                     "with {} colours (the packing had {})\n",
-                     clashes, 2.0 * h, packing.stats.colours, before);
+          if (notes == SceneNotes::print)
+            fmt::print(
+                stderr,
+                "pbxmpm: note: {} pair(s) of grains of one contact colour come within 2 cells ({:.3g} m) of each "
+                "other at this cell size and would share grid nodes (one body, no contact law): re-coloured "
+                "with {} colours (the packing had {})\n",
+                clashes, 2.0 * h, packing.stats.colours, before);
       }
       sc.packing_stats = packing.stats;
       if (packing.grains_shrunk > 0)
-        if (notes == SceneNotes::print) fmt::print(stderr,
-                   "pbxmpm: note: the packer shrank {} grain(s), by up to {:.2g} % of the diameter, to remove the last "
-                   "overlaps (packing.json: grains_shrunk, max_relative_shrink)\n",
-                   packing.grains_shrunk, 100 * packing.max_shrink);
+        if (notes == SceneNotes::print)
+          fmt::print(
+              stderr,
+              "pbxmpm: note: the packer shrank {} grain(s), by up to {:.2g} % of the diameter, to remove the last "
+              "overlaps (packing.json: grains_shrunk, max_relative_shrink)\n",
+              packing.grains_shrunk, 100 * packing.max_shrink);
       const double specimen_particles = sc.die->width * sc.die->height / std::pow(h / ppc, 2);
-      check_fits(gt, "cell_size", specimen_particles * kParticleBytes,
-                 fmt::format("the specimen's {:.3g} particles at this cell size and particles_per_cell", specimen_particles));
+      check_fits(
+          gt, "cell_size", specimen_particles * kParticleBytes,
+          fmt::format("the specimen's {:.3g} particles at this cell size and particles_per_cell", specimen_particles));
       auto field_of = [&](const std::string& fname) {
         auto [fit, inserted] = field_index.try_emplace(fname, static_cast<int>(field_index.size()));
         if (inserted) sc.field_names.push_back(fname);
@@ -314,11 +326,13 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       for (const ParticleSeed& seed : rasterise(packing, h, ppc, Eigen::Vector2d::Zero())) {
         const bool grain = seed.phase == 0;
         const int mat = grain ? grain_mat : binder_mat;
-        const int fld = !grain ? binder_field
-                               : field_of(fields == "single" ? sc.material_names[grain_mat]
-                                                             : fmt::format("{}_{}", sc.material_names[grain_mat], seed.colour));
+        const int fld =
+            !grain ? binder_field
+                   : field_of(fields == "single" ? sc.material_names[grain_mat]
+                                                 : fmt::format("{}_{}", sc.material_names[grain_mat], seed.colour));
         sc.particles.add(seed.x, seed.volume, seed.volume * sc.materials[mat]->density(), mat, fld);
-        sc.grain_coat.push_back(grain && seed.grain >= 0 ? packing.grains[static_cast<std::size_t>(seed.grain)].coat : 0.0);
+        sc.grain_coat.push_back(grain && seed.grain >= 0 ? packing.grains[static_cast<std::size_t>(seed.grain)].coat
+                                                         : 0.0);
         sc.grain_index.push_back(grain ? seed.grain : -1);
       }
       // The particles hold the packing to within their rasterisation: say when the specimen the
@@ -328,10 +342,12 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       for (std::size_t p = 0; p < sc.particles.size(); ++p) solid += sc.particles.volume0[p];
       const double phi = 1.0 - solid / (packing.box[0] * packing.box[1]);
       if (std::abs(phi - packing.stats.porosity) > 0.002)
-        if (notes == SceneNotes::print) fmt::print(stderr,
-                   "pbxmpm: note: the particle specimen's porosity {:.5f} differs from the packing's {:.5f} by {:+.5f} at "
-                   "this cell size (rasterisation); run.json's specimen.porosity and density are the particles'\n",
-                   phi, packing.stats.porosity, phi - packing.stats.porosity);
+        if (notes == SceneNotes::print)
+          fmt::print(
+              stderr,
+              "pbxmpm: note: the particle specimen's porosity {:.5f} differs from the packing's {:.5f} by {:+.5f} at "
+              "this cell size (rasterisation); run.json's specimen.porosity and density are the particles'\n",
+              phi, packing.stats.porosity, phi - packing.stats.porosity);
     } else {
       spec_t->fail("grain_material", "packed specimens are 2-D");
     }
@@ -371,26 +387,30 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     for (int d = 0; d < D; ++d) box *= std::max(0.0, std::min(hi[d], gmax[d]) - std::max(lo[d], gmin[d]));
     const double at_most = box / pvol;
     check_fits(root, "geometry", at_most * kParticleBytes,
-               fmt::format("the [[geometry]] entries' up to {:.3g} particles (check their sizes and grid.cell_size)", at_most));
+               fmt::format("the [[geometry]] entries' up to {:.3g} particles (check their sizes and grid.cell_size)",
+                           at_most));
   }
   std::vector<long> seeded(gs.size(), 0);
   int grain_count = 0;  // ids of the [[geometry]] bodies follow the packed grains'
   for (int gi : sc.grain_index) grain_count = std::max(grain_count, gi + 1);
-  if (!gs.empty()) seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
-    for (std::size_t k = 0; k < gs.size(); ++k) {
-      const Geo& g = gs[k];
-      if (!g.shape.contains(x)) continue;
-      const std::size_t p = sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
-      sc.particles.v[p] = g.velocity;
-      sc.grain_index.push_back(static_cast<int>(grain_count + k));  // bodies after any packed grains
-      ++seeded[k];
-      return;
-    }
-  });
+  if (!gs.empty())
+    seed_subcells<D>(sc.grid, ppc, lo, hi, [&](const Vec<D>& x) {
+      for (std::size_t k = 0; k < gs.size(); ++k) {
+        const Geo& g = gs[k];
+        if (!g.shape.contains(x)) continue;
+        const std::size_t p =
+            sc.particles.add(x, pvol, pvol * sc.materials[g.material]->density(), g.material, g.field);
+        sc.particles.v[p] = g.velocity;
+        sc.grain_index.push_back(static_cast<int>(grain_count + k));  // bodies after any packed grains
+        ++seeded[k];
+        return;
+      }
+    });
   for (std::size_t k = 0; k < gs.size(); ++k)
     if (seeded[k] == 0)
-      geoms[k].fail("shape", "this entry produced no particles: it lies outside the grid, is thinner than a "
-                             "particle spacing, or is covered by an earlier entry (the first entry containing a point wins)");
+      geoms[k].fail("shape",
+                    "this entry produced no particles: it lies outside the grid, is thinner than a "
+                    "particle spacing, or is covered by an earlier entry (the first entry containing a point wins)");
   // In a die the specimen must lie in the cavity: a body reaching into a wall or the punch would
   // start interpenetrated, and the contact would fling it out at the first step.
   if (sc.die)
@@ -400,9 +420,12 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       for (int d = 0; d < D; ++d) {
         const double top = d == 0 ? W : H;
         if (sh.lo[d] < -tol || sh.hi[d] > top + tol)
-          geoms[k].fail(geoms[k].string("shape", "rectangle") == "disk" ? "center" : sh.lo[d] < -tol ? "min" : "max",
+          geoms[k].fail(geoms[k].string("shape", "rectangle") == "disk" ? "center"
+                        : sh.lo[d] < -tol                               ? "min"
+                                                                        : "max",
                         fmt::format("reaches outside the die cavity (0 to {} m in x, 0 to {} m in y): "
-                                    "the walls and the punch would overlap it", W, H));
+                                    "the walls and the punch would overlap it",
+                                    W, H));
       }
     }
   if (sc.particles.size() == 0) root.fail("geometry", "the geometry entries produced no particles");
@@ -418,7 +441,8 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       if (in && (!shape || shape->contains(x))) b.x0.push_back(x);
     });
     if (b.x0.empty())
-      throw InputError(fmt::format("rigid body '{}' holds no rigid particle (smaller than a particle spacing of the grid)", b.name));
+      throw InputError(
+          fmt::format("rigid body '{}' holds no rigid particle (smaller than a particle spacing of the grid)", b.name));
     b.x = b.x0;
     b.face0 = -1e300;
     for (auto& x : b.x0) b.face0 = std::max(b.face0, x.dot(b.normal) + 0.5 * h / ppc);
@@ -459,12 +483,15 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     // the name labels history columns and a velocity field: it must not be another field's
     if (std::find(sc.field_names.begin(), sc.field_names.end(), b.name) != sc.field_names.end())
       r.fail("name", fmt::format("'{}' is already the name of a field or body (die bodies: wall_left, wall_right, "
-                                 "wall_bottom, punch)", b.name));
+                                 "wall_bottom, punch)",
+                                 b.name));
     const Shape<D> s = read_shape<D>(r);
     b.normal = read_vec<D>(r, "normal", dim::none);
     const std::string c = r.string("contact", "unilateral");
-    if (c == "stick") b.contact = RigidContact::stick;
-    else if (c != "unilateral") r.fail("contact", "unknown rigid contact '" + c + "' (known: unilateral, stick)");
+    if (c == "stick")
+      b.contact = RigidContact::stick;
+    else if (c != "unilateral")
+      r.fail("contact", "unknown rigid contact '" + c + "' (known: unilateral, stick)");
     if (std::abs(b.normal.norm() - 1.0) > 1e-9) r.fail("normal", "must be a unit vector (outward, into the specimen)");
     b.friction = r.non_negative("friction", dim::none, 0.0);
     b.cutoff = r.non_negative("contact_cutoff", dim::none, 0.8);
@@ -482,10 +509,12 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
         if (in && covered++ == 0) first = p;
       }
       if (covered > 0)
-        if (notes == SceneNotes::print) fmt::print(stderr,
-                   "pbxmpm: warning: {}: rigid body '{}' starts over {} deformable particle(s) (the first: particle {} "
-                   "of material '{}'); a unilateral body pushes them out or carries them from the first step\n",
-                   r.where("min"), b.name, covered, first, sc.material_names[sc.particles.material[first]]);
+        if (notes == SceneNotes::print)
+          fmt::print(
+              stderr,
+              "pbxmpm: warning: {}: rigid body '{}' starts over {} deformable particle(s) (the first: particle {} "
+              "of material '{}'); a unilateral body pushes them out or carries them from the first step\n",
+              r.where("min"), b.name, covered, first, sc.material_names[sc.particles.material[first]]);
     }
     add_body(std::move(b), s.lo, s.hi, &s);
   }
@@ -495,13 +524,15 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     for (int d = 0; d < D; ++d) {
       const double s = (x[d] - sc.grid.origin[d]) / h;
       if (!(s >= 1.0 && s < static_cast<double>(sc.grid.n[d]) - 2.0))
-        throw InputError(fmt::format("{} at ({}) m lies outside the grid interior: {}", what,
-                                     fmt::join(std::vector<double>(x.data(), x.data() + D), ", "),
-                                     sc.die ? "keep [[rigid]] bodies within die.wall_cells of the die" : "enlarge [grid] min/max"));
+        throw InputError(
+            fmt::format("{} at ({}) m lies outside the grid interior: {}", what,
+                        fmt::join(std::vector<double>(x.data(), x.data() + D), ", "),
+                        sc.die ? "keep [[rigid]] bodies within die.wall_cells of the die" : "enlarge [grid] min/max"));
     }
   };
   for (std::size_t p = 0; p < sc.particles.size(); ++p)
-    check_inside(sc.particles.x[p], fmt::format("particle {} (material '{}')", p, sc.material_names[sc.particles.material[p]]));
+    check_inside(sc.particles.x[p],
+                 fmt::format("particle {} (material '{}')", p, sc.material_names[sc.particles.material[p]]));
   for (auto& b : sc.bodies)
     for (auto& x : b.x0) check_inside(x, "a particle of rigid body '" + b.name + "'");
 
@@ -551,11 +582,12 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
                         "die test there (with linear shapes the punch overruns the top particle row and the run "
                         "inverts; with bspline2 the wall/punch ratio is 3-6 % low); see docs/deck/engine.md",
                         kernel_name(sc.settings.kernel)));
-  check_fits(gt, "cell_size",
-             static_cast<double>(sc.grid.nodes()) *
-                 ((kGridBytesPerNodeField + (sc.contact.has_layers() ? kLayerBytesPerNodeField : 0.0)) * sc.deformable_fields +
-                  8.0 * static_cast<double>(sc.bodies.size())),
-             fmt::format("the grid's {} nodes with {} velocity fields", sc.grid.nodes(), sc.deformable_fields));
+  check_fits(
+      gt, "cell_size",
+      static_cast<double>(sc.grid.nodes()) *
+          ((kGridBytesPerNodeField + (sc.contact.has_layers() ? kLayerBytesPerNodeField : 0.0)) * sc.deformable_fields +
+           8.0 * static_cast<double>(sc.bodies.size())),
+      fmt::format("the grid's {} nodes with {} velocity fields", sc.grid.nodes(), sc.deformable_fields));
   sc.grid.allocate(sc.deformable_fields, static_cast<int>(sc.bodies.size()));
   if (sc.contact.has_layers()) sc.grid.allocate_layers();
   return sc;
@@ -578,7 +610,8 @@ void order_by_strip(Scene<D>& sc) {
   // the solver also needs every batch in storage order (a strip's particles of one material are
   // then a contiguous part of the batch)
   bool batches_in_order = true;
-  for (const auto& st : sc.material_state) batches_in_order = batches_in_order && std::is_sorted(st.index.begin(), st.index.end());
+  for (const auto& st : sc.material_state)
+    batches_in_order = batches_in_order && std::is_sorted(st.index.begin(), st.index.end());
   const bool strips_in_order = std::is_sorted(strip.begin(), strip.end());
   if (strips_in_order && batches_in_order) return;
   if (!strips_in_order) {
@@ -605,7 +638,8 @@ void order_by_strip(Scene<D>& sc) {
     for (std::size_t p = 0; p < np; ++p) {
       if (P.material[p] != static_cast<int>(m)) continue;
       const std::size_t k = st.index.size();
-      std::copy_n(st.history.begin() + static_cast<long>(P.slot[p] * hs), hs, history.begin() + static_cast<long>(k * hs));
+      std::copy_n(st.history.begin() + static_cast<long>(P.slot[p] * hs), hs,
+                  history.begin() + static_cast<long>(k * hs));
       P.slot[p] = static_cast<std::uint32_t>(k);
       st.index.push_back(static_cast<std::uint32_t>(p));
     }

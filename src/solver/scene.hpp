@@ -24,10 +24,10 @@ template <int D>
 struct SolverSettings {
   Kernel kernel = Kernel::ugimp;
   Integrator integrator = Integrator::usl;
-  double flip = 0.99;          // FLIP fraction of the particle velocity update (1 = pure FLIP)
-  double cfl = 0.4;            // dt = cfl h / max(c_L/sqrt(f) + |v|)
-  double mass_scaling = 1.0;   // f: inertia x f, clock physical
-  int ppc = 2;                 // particles per cell per axis
+  double flip = 0.99;         // FLIP fraction of the particle velocity update (1 = pure FLIP)
+  double cfl = 0.4;           // dt = cfl h / max(c_L/sqrt(f) + |v|)
+  double mass_scaling = 1.0;  // f: inertia x f, clock physical
+  int ppc = 2;                // particles per cell per axis
   Vec<D> gravity = Vec<D>::Zero();
 };
 
@@ -47,9 +47,9 @@ struct Die {
 };
 
 struct RunControl {
-  double temperature = 293.0;   // K
-  double end_time = 0;          // s
-  double end_strain = 0;        // die runs only
+  double temperature = 293.0;  // K
+  double end_time = 0;         // s
+  double end_strain = 0;       // die runs only
   int history_points = 400;
   int snapshots = 10;
 };

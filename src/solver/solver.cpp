@@ -59,14 +59,17 @@ void Solver<D>::setup_strips() {
   for (long p = np - 1; p >= 0; --p)
     bins_.begin[static_cast<std::size_t>(bins_.strip_of((P.x[p][0] - sc_.grid.origin[0]) * inv_h))] = p;
   for (long s = bins_.strips - 1; s >= 0; --s)
-    bins_.begin[static_cast<std::size_t>(s)] = std::min(bins_.begin[static_cast<std::size_t>(s)], bins_.begin[static_cast<std::size_t>(s + 1)]);
+    bins_.begin[static_cast<std::size_t>(s)] =
+        std::min(bins_.begin[static_cast<std::size_t>(s)], bins_.begin[static_cast<std::size_t>(s + 1)]);
   bins_.stray.assign(P.size(), 0);
   bins_.strays.clear();
   batch_begin_.assign(sc_.materials.size(), {});
   for (std::size_t m = 0; m < sc_.materials.size(); ++m) {
     const auto& index = sc_.material_state[m].index;
     for (long s = 0; s <= bins_.strips; ++s)
-      batch_begin_[m].push_back(std::lower_bound(index.begin(), index.end(), static_cast<std::uint32_t>(bins_.begin[static_cast<std::size_t>(s)])) - index.begin());
+      batch_begin_[m].push_back(std::lower_bound(index.begin(), index.end(),
+                                                 static_cast<std::uint32_t>(bins_.begin[static_cast<std::size_t>(s)])) -
+                                index.begin());
   }
   chunk_begin_.assign(1, 0);
   for (long s = 0; s < bins_.strips; ++s) {
@@ -130,8 +133,8 @@ void Solver<D>::step(double max_dt) {
       grid_update();
       contact(true, true);
       finalize_grid_velocities();
-      reset_grid();     // the nodal sums of the next step start here (G2P reads only vel, dvel)
-      g2p_update_p2g(); // G2P -> stress update -> next step's P2G, chunk by chunk
+      reset_grid();      // the nodal sums of the next step start here (G2P reads only vel, dvel)
+      g2p_update_p2g();  // G2P -> stress update -> next step's P2G, chunk by chunk
       grid_primed_ = true;
       break;
     case Integrator::musl:
@@ -197,8 +200,9 @@ Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
   // (contact.position_check), which without them would compare zero offsets and never fire, and
   // the binder_layer jump (its fields' mass centres), which without them would read a fixed jump.
   const bool offsets = !sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0 || sc_.grid.layers();
-  return Scatter<D>{sc_.grid, sc_.particles, sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0,
-                    mass_momentum, forces, offsets, track_gradients_, sc_.grid.layers()};
+  return Scatter<D>{
+      sc_.grid, sc_.particles,    sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0, mass_momentum, forces,
+      offsets,  track_gradients_, sc_.grid.layers()};
 }
 
 // Even strips in parallel, then odd strips, then the strays serially (solver/bins.hpp).
@@ -257,9 +261,10 @@ void Solver<D>::rigid_p2g_impl() {
       // presence would then wrap to the next node row or be written past the end of the array
       for (int d = 0; d < D; ++d)
         if (st.base[d] < 0 || st.base[d] + 2 >= g.n[d])
-          throw InstabilityError(fmt::format("step {} (t = {:.6g} s): rigid body '{}' left the grid (its particle {} at "
-                                             "{:.6g} m along axis {}): enlarge the grid or stop the body earlier",
-                                             steps_, t_, body.name, k, x[d], d));
+          throw InstabilityError(
+              fmt::format("step {} (t = {:.6g} s): rigid body '{}' left the grid (its particle {} at "
+                          "{:.6g} m along axis {}): enlarge the grid or stop the body earlier",
+                          steps_, t_, body.name, k, x[d], d));
       for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
         gm[i] += S;
         lo = std::min(lo, i);
@@ -333,7 +338,8 @@ void Solver<D>::mark_offset_bases() {
     // bases i with [i, i + 2] meeting [lo, hi], per axis, clamped to the grid
     auto mark = [&](std::vector<std::uint8_t>& m, long x_lo, long x_hi, long y_lo, long y_hi) {
       for (long y = std::max(0L, y_lo - 2); y <= std::min(ny - 1, y_hi); ++y)
-        for (long x = std::max(0L, x_lo - 2); x <= std::min(nx - 1, x_hi); ++x) m[static_cast<std::size_t>(x + y * nx)] = 1;
+        for (long x = std::max(0L, x_lo - 2); x <= std::min(nx - 1, x_hi); ++x)
+          m[static_cast<std::size_t>(x + y * nx)] = 1;
     };
     if (static_offset_bases_.empty()) {  // static bodies: their nodes, once
       static_offset_bases_.assign(static_cast<std::size_t>(g.nodes()), 0);
@@ -492,8 +498,8 @@ void Solver<D>::g2p_impl() {
   }
   vmax_ = std::sqrt(vmax2);
   if (bad != kNone)
-    throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity",
-                                       steps_, bad, sc_.material_names[P.material[bad]]));
+    throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity", steps_, bad,
+                                       sc_.material_names[P.material[bad]]));
 }
 
 template <int D>
@@ -513,8 +519,7 @@ void Solver<D>::remap_gradient_impl() {
   const long nn = g.nodes();
   const long nd = static_cast<long>(sc_.deformable_fields) * nn;
 #pragma omp parallel for schedule(static)
-  for (long k = 0; k < nd; ++k)
-    g.dvel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
+  for (long k = 0; k < nd; ++k) g.dvel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
   // strip by strip (a gather: no parity phases), so that the end-of-step check knows each
   // particle's home strip
   std::uint32_t left = kNone;
@@ -560,8 +565,7 @@ void Solver<D>::velocity_gradient_impl() {
   const long nn = g.nodes();
   const long nd = static_cast<long>(sc_.deformable_fields) * nn;
 #pragma omp parallel for schedule(static)
-  for (long k = 0; k < nd; ++k)
-    g.vel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
+  for (long k = 0; k < nd; ++k) g.vel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
   const long np = static_cast<long>(P.size());
 #pragma omp parallel for schedule(static)
   for (long p = 0; p < np; ++p) {
@@ -644,8 +648,9 @@ void Solver<D>::advance_bodies() {
   const auto& P = sc_.particles;
   const std::uint32_t bad = left_grid_;
   if (bad != kNone)
-    throw InstabilityError(fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m",
-                                       steps_, t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
+    throw InstabilityError(
+        fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m", steps_,
+                    t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
 }
 
 template <int D>

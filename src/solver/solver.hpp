@@ -32,14 +32,14 @@ class Solver {
   const Scene<D>& scene() const { return sc_; }
 
   // Energies of the deformable particles, J (per metre of depth in 2D).
-  double kinetic_energy() const;           // with the scaled (inertial) masses
+  double kinetic_energy() const;  // with the scaled (inertial) masses
   // integrated stress work, plus the energy held by binder-layer springs (field contact)
   double internal_energy() const { return internal_ + layer_energy_; }
   // the part of it the binder-layer springs hold at the end of the last step
   double layer_energy() const { return layer_energy_; }
-  double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
+  double dissipated_energy() const { return dissipated_; }                     // plastic/viscous + friction
   long stray_count() const { return static_cast<long>(bins_.strays.size()); }  // particles outside their home strip
-  double max_wave_speed() const { return cmax_; }            // unscaled, m/s
+  double max_wave_speed() const { return cmax_; }                              // unscaled, m/s
   // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
   ContactTally<D>& contact_tally() { return contact_tally_; }
 
@@ -82,14 +82,21 @@ class Solver {
   // particles per chunk of the fused pass: G2P, stress update and P2G of one chunk run while
   // its particle data are still in the L1/L2 cache
   static constexpr long kPassChunk = 256;
-  template <Kernel K> void p2g_impl(bool mass_momentum, bool forces);
-  template <Kernel K> void g2p_impl();
-  template <Kernel K> void remap_gradient_impl();
-  template <Kernel K> void velocity_gradient_impl();
-  template <Kernel K> void rigid_p2g_impl();
-  template <Kernel K> void mark_offset_bases();
+  template <Kernel K>
+  void p2g_impl(bool mass_momentum, bool forces);
+  template <Kernel K>
+  void g2p_impl();
+  template <Kernel K>
+  void remap_gradient_impl();
+  template <Kernel K>
+  void velocity_gradient_impl();
+  template <Kernel K>
+  void rigid_p2g_impl();
+  template <Kernel K>
+  void mark_offset_bases();
   void list_body_nodes(long lo, long hi);
-  template <Kernel K> void particle_pass_impl();
+  template <Kernel K>
+  void particle_pass_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
   Scatter<D> scatter(bool mass_momentum, bool forces);
   void setup_strips();
@@ -103,11 +110,11 @@ class Solver {
   double internal_ = 0, dissipated_ = 0;
   double layer_energy_ = 0;  // binder-layer springs at the end of the last step (a state, not a sum)
   double mass_eps_ = 0;
-  double half_width_ = 0;  // particle half-width in cells (uGIMP)
+  double half_width_ = 0;         // particle half-width in cells (uGIMP)
   bool track_gradients_ = false;  // volume gradients for contact normals (several fields)
   // end-of-step check, filled where the positions are updated (G2P, fused pass or MUSL remap)
-  std::uint32_t left_grid_ = kNone;  // lowest particle whose stencil left the grid
-  bool grid_primed_ = false;         // the last fused pass made this step's P2G
+  std::uint32_t left_grid_ = kNone;             // lowest particle whose stencil left the grid
+  bool grid_primed_ = false;                    // the last fused pass made this step's P2G
   std::vector<std::vector<long>> batch_begin_;  // [material][strip]: first batch position
   std::vector<long> chunk_begin_;               // [strip]: first fused-pass chunk (results order)
   std::vector<std::vector<std::pair<long, double>>> static_presence_;

@@ -17,8 +17,7 @@ namespace pbx {
 ThreadChoice choose_threads(int requested, std::size_t particles, bool omp_env, int omp_default, int procs,
                             int local_ranks) {
   const std::size_t cores = static_cast<std::size_t>(std::max(1, std::max(1, procs) / std::max(1, local_ranks)));
-  const int automatic =
-      static_cast<int>(std::min(std::max<std::size_t>(1, particles / kParticlesPerThread), cores));
+  const int automatic = static_cast<int>(std::min(std::max<std::size_t>(1, particles / kParticlesPerThread), cores));
   ThreadChoice c;
   if (requested > 0) {
     c.threads = requested;
@@ -63,9 +62,10 @@ ThreadChoice choose_threads(int requested, std::size_t particles) {
     const auto v = parse_finite(first);
     // a value OpenMP cannot read ("abc", "0") would leave its own count without a word
     if (!(v && *v >= 1 && *v <= 1024 && std::floor(*v) == *v))
-      throw InputError(fmt::format("OMP_NUM_THREADS='{}' is not a thread count (a whole number 1 to 1024, optionally "
-                                   "followed by ',N' for nested levels); unset it or fix it",
-                                   env));
+      throw InputError(
+          fmt::format("OMP_NUM_THREADS='{}' is not a thread count (a whole number 1 to 1024, optionally "
+                      "followed by ',N' for nested levels); unset it or fix it",
+                      env));
     omp_default = static_cast<int>(*v);
   }
   return choose_threads(requested, particles, omp_env, omp_default, omp_get_num_procs(), local);

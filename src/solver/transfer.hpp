@@ -47,14 +47,14 @@ template <int D>
 struct Scatter {
   Grid<D>& g;
   const Particles<D>& P;
-  double fs;            // mass scaling
-  Vec<D> grav;          // gravity, m/s^2
-  bool gravity;         // grav is not zero
-  bool mass_momentum;   // scatter mass, momentum (and offsets, gradients)
-  bool forces;          // scatter internal and body forces
-  bool offsets;         // mass-centre offsets (rigid-body contact gate, field position check)
-  bool gradients;       // volume gradients (contact normals between several fields)
-  bool layers;          // reference positions, F and bond flags (binder_layer contact law)
+  double fs;           // mass scaling
+  Vec<D> grav;         // gravity, m/s^2
+  bool gravity;        // grav is not zero
+  bool mass_momentum;  // scatter mass, momentum (and offsets, gradients)
+  bool forces;         // scatter internal and body forces
+  bool offsets;        // mass-centre offsets (rigid-body contact gate, field position check)
+  bool gradients;      // volume gradients (contact normals between several fields)
+  bool layers;         // reference positions, F and bond flags (binder_layer contact law)
   // with offsets: only particles whose stencil base node is marked here scatter them (2-D; null:
   // every particle)
   const std::uint8_t* offset_bases = nullptr;

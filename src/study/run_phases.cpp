@@ -42,8 +42,10 @@ RunPhases run_phases(const StudyRun& run) {
   const double porosity = json_number(member(spec, "porosity", rj_file), rj_file + ": specimen.porosity");
 
   const Json* window = json_find(run.analysis, "linear_window");
-  const double lo = window && json_find(*window, "lo") ? json_number(*json_find(*window, "lo"), "linear_window.lo") : NAN;
-  const double hi = window && json_find(*window, "hi") ? json_number(*json_find(*window, "hi"), "linear_window.hi") : NAN;
+  const double lo =
+      window && json_find(*window, "lo") ? json_number(*json_find(*window, "lo"), "linear_window.lo") : NAN;
+  const double hi =
+      window && json_find(*window, "hi") ? json_number(*json_find(*window, "hi"), "linear_window.hi") : NAN;
   if (!(std::isfinite(lo) && std::isfinite(hi)))
     throw InputError(fmt::format("{}/analysis.json: no linear window (linear_window.lo/hi)", run.dir));
 
@@ -57,13 +59,16 @@ RunPhases run_phases(const StudyRun& run) {
   const DeckTable materials = deck.root().table("materials");
   const Json& mats = member(rj, "materials", rj_file);
   double particles = 0;
-  for (const Json& m : json_array(mats)) particles += json_number(member(m, "particles", rj_file), rj_file + ": materials.particles");
+  for (const Json& m : json_array(mats))
+    particles += json_number(member(m, "particles", rj_file), rj_file + ": materials.particles");
   if (!(particles > 0)) throw InputError(fmt::format("{}: the materials hold no particles", rj_file));
   for (const Json& m : json_array(mats)) {
     const std::string name = json_string(member(m, "name", rj_file), rj_file + ": materials.name");
     const double n = json_number(member(m, "particles", rj_file));
     const auto table = materials.optional_table(name);
-    if (!table) throw InputError(fmt::format("{}: run.json names material '{}', which the deck does not hold", deck.name(), name));
+    if (!table)
+      throw InputError(
+          fmt::format("{}: run.json names material '{}', which the deck does not hold", deck.name(), name));
     MaterialContext ctx;
     ctx.temperature = out.temperature_K;
     ctx.name = name;
@@ -87,9 +92,10 @@ std::vector<Phase> run_phases_for_bounds(const StudyRun& run, std::string& sourc
     list += fmt::format("{}{} K {:.4g} GPa, G {:.4g} GPa, f {:.4f}", list.empty() ? "" : "; ", p.name,
                         p.bulk_modulus / 1e9, p.shear_modulus / 1e9, p.volume_fraction);
   }
-  source = fmt::format("the run's materials at {:g} K after a hold of {:.3g} s (the loading time to the middle of the "
-                       "linear window): {}",
-                       rp.temperature_K, rp.load_time_s, list);
+  source = fmt::format(
+      "the run's materials at {:g} K after a hold of {:.3g} s (the loading time to the middle of the "
+      "linear window): {}",
+      rp.temperature_K, rp.load_time_s, list);
   return std::move(rp.phases);
 }
 

@@ -40,7 +40,6 @@ bool is_folder_name(const std::string& name) {
   return ok;
 }
 
-
 namespace {
 
 std::string node_text(const toml::node& n) {
@@ -169,8 +168,10 @@ StudySpec read_study(const std::string& file) {
     // a folder opens as an empty stream and the study itself parses as a deck: both failed only
     // when the first run was built ("grid: required table missing"), after the study's files were written
     std::error_code ec;
-    if (fs::is_directory(s.base_deck, ec)) st.fail("base", fmt::format("'{}' is a folder, not a run deck", s.base_deck));
-    if (fs::equivalent(s.base_deck, file, ec)) st.fail("base", "names this study deck itself; give the run deck the study varies");
+    if (fs::is_directory(s.base_deck, ec))
+      st.fail("base", fmt::format("'{}' is a folder, not a run deck", s.base_deck));
+    if (fs::equivalent(s.base_deck, file, ec))
+      st.fail("base", "names this study deck itself; give the run deck the study varies");
     std::ifstream in(s.base_deck);
     if (!in) st.fail("base", fmt::format("cannot open base deck '{}'", s.base_deck));
     std::stringstream ss;
@@ -212,7 +213,8 @@ StudySpec read_study(const std::string& file) {
   }
   common = overrides_of(tree["study"]["set"].as_table());
   const auto groups = st.tables("group");
-  std::vector<std::size_t> own_seed_group;  // per run: its group if that group gives the seed itself, else groups.size()
+  std::vector<std::size_t>
+      own_seed_group;  // per run: its group if that group gives the seed itself, else groups.size()
   if (groups.empty()) st.fail("group", "at least one [[study.group]] is required");
   const toml::array* garr = tree["study"]["group"].as_array();
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
@@ -240,8 +242,10 @@ StudySpec read_study(const std::string& file) {
       if (is_seed(kv.first)) set_seed = kv.second;
     const bool own_seed = is_seed(key) || set_seed.has_value();
     if (own_seed && seeds.size() > 1) {
-      if (is_seed(key)) g.fail("key", fmt::format("this group varies '{}' itself: give study.seeds at most one seed", key));
-      st.fail("seeds", fmt::format("group '{}' gets the specimen's seed from a [set] table: give at most one seed", gname));
+      if (is_seed(key))
+        g.fail("key", fmt::format("this group varies '{}' itself: give study.seeds at most one seed", key));
+      st.fail("seeds",
+              fmt::format("group '{}' gets the specimen's seed from a [set] table: give at most one seed", gname));
     }
     for (const auto& v : *values) {
       const std::string text = node_text(v);
@@ -301,15 +305,17 @@ StudySpec read_study(const std::string& file) {
     // under several names (the seed is dropped from decks whose specimen is not generated)
     if (own_seed_group[i] < groups.size() && (!has_specimen || reads))
       groups[own_seed_group[i]].fail(
-          is_seed_key(groups[own_seed_group[i]].string("key")) ? "key" : "set", fmt::format("group '{}' gives the specimen's seed, but {}: every seed would give the same run",
-                             s.runs[i].group,
-                             reads ? "the specimen is read from specimen.packing_dir, not generated"
-                                   : "the base deck has no [specimen] (no packed microstructure)"));
+          is_seed_key(groups[own_seed_group[i]].string("key")) ? "key" : "set",
+          fmt::format("group '{}' gives the specimen's seed, but {}: every seed would give the same run",
+                      s.runs[i].group,
+                      reads ? "the specimen is read from specimen.packing_dir, not generated"
+                            : "the base deck has no [specimen] (no packed microstructure)"));
   }
   if (several_seeds && !base_has_specimen)
     st.fail("seeds", "the base deck has no [specimen] (no packed microstructure): every seed would give the same run");
   if (several_seeds && reads_packing)
-    st.fail("seeds", "the specimen is read from specimen.packing_dir, not generated: every seed would give the same run");
+    st.fail("seeds",
+            "the specimen is read from specimen.packing_dir, not generated: every seed would give the same run");
   if (auto a = deck.root().optional_table("analysis")) {
     s.analysis = AnalysisOptions::from_deck(*a);
     std::stringstream text;
@@ -343,7 +349,8 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
 static void write_study_files(const StudySpec& s, const fs::path& out) {
   Json runs = Json::array();
   for (const auto& r : s.runs)
-    runs.push_back({{"id", r.id}, {"dir", "runs/" + r.id}, {"group", r.group}, {"value", r.value_label}, {"seed", r.seed}});
+    runs.push_back(
+        {{"id", r.id}, {"dir", "runs/" + r.id}, {"group", r.group}, {"value", r.value_label}, {"seed", r.seed}});
   json_write_file((out / "study.json").string(),
                   Json{{"name", s.name}, {"deck", s.deck}, {"base", s.base_deck}, {"runs", runs}});
   if (s.analysis_text.empty())
@@ -536,14 +543,20 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       ro.deck_text = text;
       ro.deck_name = (dir / "deck.toml").string();
       ro.checkpoint_every = opt.checkpoint_every;
-      ro.progress_label = mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
-                                       : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
+      ro.progress_label =
+          mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
+                       : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
       ro.runs_after = mine - done;
       double mass = 0;
       for (double m : scene.particles.mass) mass += m;
       const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
-      ro.study = {{"study", s.name}, {"id", r.id}, {"group", r.group}, {"value", r.value_label},
-                  {"temperature_K", scene.control.temperature}, {"density_g_cm3", rho / 1000.0}, {"seed", r.seed}};
+      ro.study = {{"study", s.name},
+                  {"id", r.id},
+                  {"group", r.group},
+                  {"value", r.value_label},
+                  {"temperature_K", scene.control.temperature},
+                  {"density_g_cm3", rho / 1000.0},
+                  {"seed", r.seed}};
       // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
       // it, history columns of another code version) is set aside and the run starts over.
       bool resumed = false;
@@ -557,7 +570,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
         } catch (const InputError& e) {
           const fs::path aside = dir / "checkpoint.unusable.h5";
           fs::rename(ckpt, aside);
-          std::fprintf(stderr, "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
+          std::fprintf(stderr,
+                       "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
                        r.id.c_str(), e.what(), aside.c_str());
         }
         if (resumed) {
@@ -580,16 +594,20 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       if (stop_signal_received()) {
         // the signal came after the run's last checkpoint row, so the run finished: the study
         // stops before the next one (it used to start it, and the signal was forgotten)
-        std::fprintf(stderr, "pbxmpm study: a stop signal arrived as run %s finished; the study stops here: run the "
-                             "same `pbxmpm study` command to continue it\n", r.id.c_str());
+        std::fprintf(stderr,
+                     "pbxmpm study: a stop signal arrived as run %s finished; the study stops here: run the "
+                     "same `pbxmpm study` command to continue it\n",
+                     r.id.c_str());
         interrupted = true;
         break;
       }
     } catch (const Interrupted& e) {
       // the run saved a checkpoint: the study stops here, and the same command continues it
       ++failed;
-      std::fprintf(stderr, "pbxmpm study: run %s %s; the study stops here: run the same `pbxmpm study` command to "
-                           "continue it\n", r.id.c_str(), e.what());
+      std::fprintf(stderr,
+                   "pbxmpm study: run %s %s; the study stops here: run the same `pbxmpm study` command to "
+                   "continue it\n",
+                   r.id.c_str(), e.what());
       interrupted = true;
       break;
     } catch (const InstabilityError& e) {
@@ -610,7 +628,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     int ran = 0;
     for (const bool p : pending) ran += p;
-    std::fprintf(stderr, "pbxmpm study: %zu runs (%d attempted now), %d failed, %.0f s\n", s.runs.size(), ran, failed, elapsed);
+    std::fprintf(stderr, "pbxmpm study: %zu runs (%d attempted now), %d failed, %.0f s\n", s.runs.size(), ran, failed,
+                 elapsed);
     std::string missing;
     for (const auto& r : s.runs)
       if (!finished(out / "runs" / r.id)) missing += (missing.empty() ? "" : ", ") + r.id;

@@ -4,9 +4,9 @@
 // spread over MPI ranks (rank r takes the pending runs r, r + n, ...; OpenMP inside each run), so a
 // resumed study keeps every rank busy; without MPI they run in turn.
 // A study that stops can be started again: finished runs (run.json "finished" and analysis.json
-// present) are skipped, an interrupted run continues from its last checkpoint. Layout: STUDY/study.json, STUDY/runs/<id>/{deck.toml, history.csv,
-// run.json, analysis.json, snapshots/}, STUDY/analysis.toml (the study deck's [analysis] table, read by
-// `pbxmpm report` and `fit study` when no analysis options are given), STUDY/report/.
+// present) are skipped, an interrupted run continues from its last checkpoint. Layout: STUDY/study.json,
+// STUDY/runs/<id>/{deck.toml, history.csv, run.json, analysis.json, snapshots/}, STUDY/analysis.toml (the study deck's
+// [analysis] table, read by `pbxmpm report` and `fit study` when no analysis options are given), STUDY/report/.
 #include <string>
 #include <vector>
 
@@ -17,15 +17,15 @@ namespace pbx {
 struct StudyRunSpec {
   std::string id;
   std::string group;
-  std::string value_label;                                // as written in the study deck
+  std::string value_label;  // as written in the study deck
   long seed = 1;
-  std::vector<std::pair<std::string, std::string>> set;   // dotted key -> TOML value text
+  std::vector<std::pair<std::string, std::string>> set;  // dotted key -> TOML value text
 };
 
 struct StudySpec {
   std::string name;
-  std::string deck;        // the study deck itself, absolute path (study.json: what `status` suggests rerunning)
-  std::string base_deck;   // absolute path
+  std::string deck;       // the study deck itself, absolute path (study.json: what `status` suggests rerunning)
+  std::string base_deck;  // absolute path
   std::string base_text;
   std::vector<StudyRunSpec> runs;
   // The study deck's optional [analysis] table, applied to every run, so all runs of a study are

@@ -138,18 +138,20 @@ std::string format_study_status(const std::vector<RunStatus>& runs, const std::s
   std::string todo;
   int finished = 0;
   for (const auto& r : runs) {
-    const std::string strain =
-        r.strain < 0 ? "-"
-        : r.end_strain > 0 ? fmt::format("{:.3f} / {:.2f} %", 100 * r.strain, 100 * r.end_strain)
-                           : fmt::format("{:.3f} %", 100 * r.strain);
+    const std::string strain = r.strain < 0       ? "-"
+                               : r.end_strain > 0 ? fmt::format("{:.3f} / {:.2f} %", 100 * r.strain, 100 * r.end_strain)
+                                                  : fmt::format("{:.3f} %", 100 * r.strain);
     const std::string ck = r.checkpoint_step < 0 ? "-" : fmt::format("step {}", r.checkpoint_step);
     std::string note = r.state == "started" ? "running, or interrupted if the last row is old" : r.message;
     if (r.state == "interrupted") note = "its process is gone: rerun the study to continue it";
     if (r.state == "started" && !r.message.empty()) note = r.message + "; " + note;
     if (r.state == "finished") note = r.code_version;
-    s += fmt::format("{:<28} {:<22} {:>16} {:>14} {:>12}  {}\n", r.id, r.state, strain, ago(r.last_row_age_s), ck, note);
-    if (r.state == "finished") ++finished;
-    else todo += (todo.empty() ? "" : ",") + r.id;
+    s +=
+        fmt::format("{:<28} {:<22} {:>16} {:>14} {:>12}  {}\n", r.id, r.state, strain, ago(r.last_row_age_s), ck, note);
+    if (r.state == "finished")
+      ++finished;
+    else
+      todo += (todo.empty() ? "" : ",") + r.id;
   }
   s += fmt::format("{} of {} runs finished", finished, runs.size());
   if (!todo.empty())

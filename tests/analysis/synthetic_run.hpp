@@ -63,10 +63,11 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
     work += 0.5 * (sa + sa_prev) * (e - e_prev) * 1e-3 * 1.2e-3;  // J/m: box 1 x 1.2 mm
     e_prev = e, sa_prev = sa;
     const double ie = (0.9 + (e >= s.energy_gain_from ? s.energy_gain : 0.0)) * work;
-    h << fmt::format("{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,{:.9g},{:.9g},0,{:.9g},{},0\n",
-                     i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl,
-                     -sl * (1 + s.vol_bias), -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias),
-                     ke_ie * ie, ie, work, ke_ie);
+    h << fmt::format(
+        "{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,{:.9g},{:.9g},0,{:."
+        "9g},{},0\n",
+        i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl, -sl * (1 + s.vol_bias),
+        -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke_ie * ie, ie, work, ke_ie);
     if (s.overlap_share >= 0) {
       h.seekp(-1, std::ios_base::cur);  // replace the newline
       h << fmt::format(",{:.12g}\n", 1e-12 + s.overlap_share * e * 1e-3 * 1.2e-3);

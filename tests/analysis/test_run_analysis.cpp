@@ -167,7 +167,7 @@ TEST(RunAnalysis, KineticEnergyAboveTheLimitAfterTheRampIsFlagged) {
     const Json a = analyze_run(dir.string(), AnalysisOptions{});
     const double lo = at(a, {"linear_window", "lo"});
     if (bump > 0.05) {
-      EXPECT_GE(lo, 0.0015);  // starts after the bump (0.01 from strain 0.0015 on)...
+      EXPECT_GE(lo, 0.0015);   // starts after the bump (0.01 from strain 0.0015 on)...
       EXPECT_LT(lo, 0.00155);  // ...at the first settled point
       EXPECT_TRUE(json_bool(*json_find(*json_find(a, "linear_window"), "start_after_ke_ie_settled")));
     } else {
@@ -197,7 +197,8 @@ TEST(RunAnalysis, InterpenetrationShareAndFlag) {
     EXPECT_NEAR(at(j, {"interpenetration", "growth_fraction_of_box"}), share * s.max_strain, 1e-9);
     EXPECT_EQ(json_bool(*json_find(*json_find(j, "interpenetration"), "flagged")), share > 0.25);
     bool warned = false;
-    for (const auto& w : json_array(*json_find(j, "warnings"))) warned |= json_string(w).find("pass into each other") != std::string::npos;
+    for (const auto& w : json_array(*json_find(j, "warnings")))
+      warned |= json_string(w).find("pass into each other") != std::string::npos;
     EXPECT_EQ(warned, share > 0.25);
     fs::remove_all(dir);
   }
@@ -270,18 +271,24 @@ TEST(RunAnalysis, AnalysisTableErrorsNameTheirKey) {
       (void)AnalysisOptions::from_deck(d.root().table("analysis"));
     });
   };
-  EXPECT_NE(deck_error("plateau_window = [0.02, 0.01]\n").find("analysis.plateau_window: [0.02, 0.01]: needs 0 <= lo < hi"),
-            std::string::npos) << deck_error("plateau_window = [0.02, 0.01]\n");
+  EXPECT_NE(
+      deck_error("plateau_window = [0.02, 0.01]\n").find("analysis.plateau_window: [0.02, 0.01]: needs 0 <= lo < hi"),
+      std::string::npos)
+      << deck_error("plateau_window = [0.02, 0.01]\n");
   EXPECT_NE(deck_error("linear_window = [0.02, 0.01]\n").find("analysis.linear_window"), std::string::npos);
   EXPECT_NE(deck_error("window_min_points = 4294967299\n").find("analysis.window_min_points: must be in [3, 1000000]"),
-            std::string::npos) << deck_error("window_min_points = 4294967299\n");
+            std::string::npos)
+      << deck_error("window_min_points = 4294967299\n");
   EXPECT_EQ(deck_error("plateau_window = [0.01, 0.02]\nwindow_min_points = 5\n"), "");
-  EXPECT_NE(deck_error("strength_plateau_from = 0.04\n").find("analysis.strength_plateau_from: must be below strength_max_strain"),
-            std::string::npos) << deck_error("strength_plateau_from = 0.04\n");
+  EXPECT_NE(deck_error("strength_plateau_from = 0.04\n")
+                .find("analysis.strength_plateau_from: must be below strength_max_strain"),
+            std::string::npos)
+      << deck_error("strength_plateau_from = 0.04\n");
   EXPECT_EQ(deck_error("strength_plateau_from = 0.01\n"), "");
   AnalysisOptions o;
   o.window_tolerance = 5.0;  // --window-tolerance 5: the deck key allows at most 1
-  EXPECT_NE(error_of([&] { o.validate(); }).find("must be in [1e-06, 1]"), std::string::npos) << error_of([&] { o.validate(); });
+  EXPECT_NE(error_of([&] { o.validate(); }).find("must be in [1e-06, 1]"), std::string::npos)
+      << error_of([&] { o.validate(); });
   o = AnalysisOptions{};
   o.ke_ie_limit = 20.0;
   EXPECT_NE(error_of([&] { o.validate(); }).find("KE/IE limit"), std::string::npos);
@@ -324,7 +331,8 @@ TEST(RunAnalysis, EnergyGainIsFlagged) {
       EXPECT_GE(json_number(*json_find(e, "at_strain")), s.energy_gain_from);  // the ratio is flat from there on
     }
     bool warned = false;
-    for (const auto& w : json_array(*json_find(a, "warnings"))) warned |= json_string(w).find("energy not conserved") != std::string::npos;
+    for (const auto& w : json_array(*json_find(a, "warnings")))
+      warned |= json_string(w).find("energy not conserved") != std::string::npos;
     EXPECT_EQ(warned, flag) << gain;
     fs::remove_all(dir);
   }
@@ -340,7 +348,8 @@ TEST(RunAnalysis, EnergyGainIsFlagged) {
     for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << keep[k];
     out << "\n";
     for (std::size_t i = 0; i < h.rows(); ++i) {
-      for (std::size_t k = 0; k < keep.size(); ++k) out << (k ? "," : "") << fmt::format("{:.12g}", h.column(keep[k])[i]);
+      for (std::size_t k = 0; k < keep.size(); ++k)
+        out << (k ? "," : "") << fmt::format("{:.12g}", h.column(keep[k])[i]);
       out << "\n";
     }
   }

@@ -11,7 +11,8 @@ using namespace pbx;
 // dof 4 t = sign * sqrt(4 (cos(acos(sqrt(a))/3)/sqrt(a) - 1)), a = 4 p (1 - p).
 TEST(StudentT, QuantileMatchesClosedFormsForOneTwoAndFourDegrees) {
   for (double p : {0.6, 0.9, 0.975, 0.995}) {
-    EXPECT_NEAR(student_t_quantile(p, 1), std::tan(std::numbers::pi * (p - 0.5)), 1e-9 * std::tan(std::numbers::pi * (p - 0.5)));
+    EXPECT_NEAR(student_t_quantile(p, 1), std::tan(std::numbers::pi * (p - 0.5)),
+                1e-9 * std::tan(std::numbers::pi * (p - 0.5)));
     EXPECT_NEAR(student_t_quantile(p, 2), (2 * p - 1) / std::sqrt(2 * p * (1 - p)), 1e-10);
     const double a = 4 * p * (1 - p);
     const double t4 = std::sqrt(4 * (std::cos(std::acos(std::sqrt(a)) / 3) / std::sqrt(a) - 1));

@@ -60,8 +60,9 @@ fs::path make_study(const std::string& name, bool study_format = false) {
                           runs.empty() ? "" : ",\n  ", r.id, r.id, r.group,
                           r.group == "temperature" ? fmt::format("{} K", r.T) : fmt::format("{}", r.rho), r.seed);
     else
-      runs += fmt::format(R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}})",
-                          runs.empty() ? "" : ",\n  ", r.id, r.id, r.group, r.T, r.rho / 1e3, r.seed);
+      runs += fmt::format(
+          R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "temperature_K": {}, "density_g_cm3": {}, "seed": {}}})",
+          runs.empty() ? "" : ",\n  ", r.id, r.id, r.group, r.T, r.rho / 1e3, r.seed);
   }
   std::ofstream(dir / "study.json") << "{\"name\": \"synthetic\", \"runs\": [\n  " << runs << "]}\n";
   return dir;
@@ -82,8 +83,8 @@ TEST(StudyReport, AnInstalledBinaryUsesItsInstalledReportFiles) {
   fs::copy_file(src / "make_report.py", prefix / "share" / "pbxmpm" / "report" / "make_report.py");
   std::ofstream(prefix / "share" / "pbxmpm" / "report" / "make_report.py", std::ios::app)
       << "\nopen(os.path.join(sys.argv[sys.argv.index('--out') + 1], 'installed_copy_ran'), 'w').close()\n";
-  const std::string cmd = fmt::format("env -u PBXMPM_REPORT_DIR '{}' report '{}' > '{}' 2>&1", (prefix / "bin" / "pbxmpm").string(),
-                                      dir.string(), (dir / "log").string());
+  const std::string cmd = fmt::format("env -u PBXMPM_REPORT_DIR '{}' report '{}' > '{}' 2>&1",
+                                      (prefix / "bin" / "pbxmpm").string(), dir.string(), (dir / "log").string());
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_TRUE(fs::exists(dir / "report" / "installed_copy_ran"));
   EXPECT_TRUE(fs::exists(dir / "report" / "report.md"));
@@ -94,12 +95,26 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   const fs::path dir = make_study("complete");
   const std::string out = build_report(dir.string(), kOptions);
   EXPECT_EQ(fs::path(out), dir / "report");
-  for (const char* f : {"fits.json", "report.md", "report.html", "table2_moduli_vs_temperature.csv",
-                        "table3_strength_vs_temperature.csv", "moduli_vs_density.csv", "fitted_constants.csv",
-                        "model_card.json", "model_card_curves.csv", "fig2_curves_vs_temperature.png",
-                        "fig2_curves_vs_temperature.svg", "fig3_moduli_vs_temperature.png", "fig4_strength_vs_temperature.png",
-                        "fig5_normalized_curves.png", "fig6_eq15_vs_simulation.png", "fig7_curves_vs_density.png",
-                        "fig8_moduli_vs_density.png", "fig9_density_law.png", "fig9_density_law.svg", "trends.csv"}) {
+  for (const char* f : {"fits.json",
+                        "report.md",
+                        "report.html",
+                        "table2_moduli_vs_temperature.csv",
+                        "table3_strength_vs_temperature.csv",
+                        "moduli_vs_density.csv",
+                        "fitted_constants.csv",
+                        "model_card.json",
+                        "model_card_curves.csv",
+                        "fig2_curves_vs_temperature.png",
+                        "fig2_curves_vs_temperature.svg",
+                        "fig3_moduli_vs_temperature.png",
+                        "fig4_strength_vs_temperature.png",
+                        "fig5_normalized_curves.png",
+                        "fig6_eq15_vs_simulation.png",
+                        "fig7_curves_vs_density.png",
+                        "fig8_moduli_vs_density.png",
+                        "fig9_density_law.png",
+                        "fig9_density_law.svg",
+                        "trends.csv"}) {
     EXPECT_TRUE(fs::exists(dir / "report" / f)) << f;
   }
   std::ifstream md(dir / "report" / "report.md");
@@ -132,7 +147,8 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
   EXPECT_EQ(line, "group,value,seeds,T_K,density_g_cm3,K_GPa,G_GPa,E_GPa,nu,yield_MPa,strength_MPa");
   while (next()) {
     ++conditions;
-    if (line.rfind("temperature,", 0) == 0 && line.find(",373,") != std::string::npos) e373 = line.find(",2.11 ± 0,") != std::string::npos;
+    if (line.rfind("temperature,", 0) == 0 && line.find(",373,") != std::string::npos)
+      e373 = line.find(",2.11 ± 0,") != std::string::npos;
   }
   EXPECT_EQ(conditions, 7);  // 4 temperatures + 3 densities
   EXPECT_TRUE(e373) << "E at 373 K";
@@ -248,9 +264,10 @@ TEST(StudyReport, QuickStudyReportReadsWholeInABrowser) {
   const std::string log = (dir / "log").string();
   const std::string report = fmt::format("'{}' report '{}' > '{}' 2>&1", PBXMPM_BINARY, dir.string(), log);
   ASSERT_EQ(std::system(report.c_str()), 0) << report;
-  const std::string check = fmt::format("python3 '{}' '{}' --screenshot '{}' > '{}' 2>&1",
-                                        (fs::path(PBXMPM_SOURCE_DIR) / "tools" / "report" / "browser_check.py").string(),
-                                        (dir / "report").string(), (dir / "report" / "browser.png").string(), log);
+  const std::string check =
+      fmt::format("python3 '{}' '{}' --screenshot '{}' > '{}' 2>&1",
+                  (fs::path(PBXMPM_SOURCE_DIR) / "tools" / "report" / "browser_check.py").string(),
+                  (dir / "report").string(), (dir / "report" / "browser.png").string(), log);
   const int rc = std::system(check.c_str());
   std::ifstream in(log);
   const std::string out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -44,8 +44,8 @@ class BinaryTest : public ::testing::Test {
   explicit BinaryTest(std::string prefix) : prefix_(std::move(prefix)) {}
   void SetUp() override {
     if (!std::filesystem::exists(PBXMPM_BINARY)) GTEST_SKIP() << "pbxmpm is not built";
-    dir = std::filesystem::temp_directory_path() /
-          (prefix_ + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir = std::filesystem::temp_directory_path() / (prefix_ + std::to_string(::getpid()) + "_" +
+                                                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
   }

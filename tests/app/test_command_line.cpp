@@ -44,17 +44,21 @@ class CommandLine : public pbx::test::BinaryTest {
 // stress, density or temperature column must state its unit in its name, and the options are
 // range-checked.
 TEST_F(CommandLine, FitRefusesUnreadableCellsUnstatedUnitsAndBadOptions) {
-  const std::string good = write("t.csv", "T_K,strength_MPa,strength\n293,32.8,32.8e6\n333,28.2,28.2e6\n353,24.1,24.1e6\n373,15.6,15.6e6\n");
+  const std::string good =
+      write("t.csv", "T_K,strength_MPa,strength\n293,32.8,32.8e6\n333,28.2,28.2e6\n353,24.1,24.1e6\n373,15.6,15.6e6\n");
   EXPECT_EQ(pbxmpm("fit temperature " + good).code, 0);
   const std::string cell = write("cell.csv", "T_K,strength_MPa\n293,32.8\n333,28.2 MPa\n353,24.1\n373,15.6\n");
   expect_refused("fit temperature " + cell, "cell.csv:3: column 'strength_MPa' holds '28.2 MPa', not a finite number");
   const std::string nan = write("nan.csv", "T_K,strength_MPa\n293,32.8\n333,nan\n353,24.1\n373,15.6\n");
   expect_refused("fit temperature " + nan, "nan.csv:3: column 'strength_MPa' holds 'nan'");
-  expect_refused("fit temperature " + good + " --strength-col strength", "--strength-col 'strength': the column name must end with its unit");
+  expect_refused("fit temperature " + good + " --strength-col strength",
+                 "--strength-col 'strength': the column name must end with its unit");
   const std::string celsius = write("c.csv", "T_C,strength_MPa\n20,32.8\n60,28.2\n80,24.1\n100,15.6\n");
-  expect_refused("fit temperature " + celsius + " --T-col T_C", "--T-col 'T_C': the column name must end with its unit, _K");
+  expect_refused("fit temperature " + celsius + " --T-col T_C",
+                 "--T-col 'T_C': the column name must end with its unit, _K");
   expect_refused("fit temperature " + good + " --confidence 1.5", "--confidence: must lie in (0, 1)");
-  const std::string dens = write("d.csv", "density_g_cm3,G_GPa,K_GPa\n1.761,1.03,2.21\n1.787,1.24,2.65\n1.839,1.72,3.68\n");
+  const std::string dens =
+      write("d.csv", "density_g_cm3,G_GPa,K_GPa\n1.761,1.03,2.21\n1.787,1.24,2.65\n1.839,1.72,3.68\n");
   EXPECT_EQ(pbxmpm("fit density " + dens).code, 0);
   expect_refused("fit density " + dens + " --rho0 '-1 kg/m3'", "--rho0: must be a finite quantity > 0");
   const std::string curve = write("curve.csv", "strain,punch_stress_Pa\n0.01,1e6\n0.02,2e6\n0.03,2.5e6\n");
@@ -68,7 +72,8 @@ TEST_F(CommandLine, FitRefusesUnreadableCellsUnstatedUnitsAndBadOptions) {
 // no confidence interval instead of printing NaN intervals without a word.
 TEST_F(CommandLine, FitRefusesOverflowAndSaysWhenItHasNoDegreesOfFreedom) {
   const std::string big = write("big.csv", "T_K,strength_MPa\n293,1e303\n333,28.2\n353,24.1\n373,15.6\n");
-  expect_refused("fit temperature " + big, "column 'strength_MPa', data row 1: 1e+303 overflows when converted to SI units");
+  expect_refused("fit temperature " + big,
+                 "column 'strength_MPa', data row 1: 1e+303 overflows when converted to SI units");
   const std::string two = write("two.csv", "T_K,strength_MPa\n293,32.8\n373,15.6\n");
   const Result r = pbxmpm("fit temperature " + two);
   EXPECT_EQ(r.code, 0) << r.output;
@@ -89,32 +94,37 @@ TEST_F(CommandLine, ErrorsNameTheirCause) {
   };
   const std::string both = variant("both.toml", "shear_modulus = \"11.5 GPa\"",
                                    "shear_modulus = \"11.5 GPa\"\nyoungs_modulus = \"20 GPa\"\npoisson_ratio = 0.2");
-  expect_refused("check " + both, "give bulk_modulus and shear_modulus, or youngs_modulus and poisson_ratio, not both pairs");
+  expect_refused("check " + both,
+                 "give bulk_modulus and shear_modulus, or youngs_modulus and poisson_ratio, not both pairs");
   expect_refused("check " + variant("big.toml", "cell_size = \"20 um\"", "cell_size = \"1e999 um\""),
                  "grid.cell_size: the number in '1e999 um' is beyond the range of a double");
   expect_refused("check " + variant("rho.toml", "density = \"1.934 g/cm3\"", "density = 1e308"),
                  "materials.block.density: 1e+308 kg/m3 exceeds 1e5 kg/m3");
-  expect_refused("check " + variant("ms.toml", "mass_scaling = 10", "mass_scaling = 1e9"), "solver.mass_scaling: must be <= 10000");
+  expect_refused("check " + variant("ms.toml", "mass_scaling = 10", "mass_scaling = 1e9"),
+                 "solver.mass_scaling: must be <= 10000");
   expect_refused("rnu " + both, "unknown command 'rnu' (the commands: run, check");
   EXPECT_EQ(pbxmpm("run --threads 0 " + both).code, 2) << "a usage error exits 2, not CLI11's 105";
   expect_refused("analyze " + both, "is a file: give the run's folder");
-  expect_refused("material " + both + " --material block --path uniaxial_strain --strain -0.01 --rate 100 --steps 100000000000",
-                 "--steps");
+  expect_refused(
+      "material " + both + " --material block --path uniaxial_strain --strain -0.01 --rate 100 --steps 100000000000",
+      "--steps");
   const pbx::test::Result omp = pbx::test::shell(fmt::format(
-      "OMP_NUM_THREADS=abc {{pbx}} run {} -q --out {}", (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string(),
-      (dir / "omp").string()));
+      "OMP_NUM_THREADS=abc {{pbx}} run {} -q --out {}",
+      (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string(), (dir / "omp").string()));
   EXPECT_EQ(omp.code, 2) << omp.output;
   EXPECT_NE(omp.output.find("OMP_NUM_THREADS='abc' is not a thread count"), std::string::npos) << omp.output;
   // a plain number is SI, as in the decks
   const std::string two = write("two.csv", "T_K,strength_MPa\n293,32.8\n333,28.2\n373,15.6\n");
   EXPECT_EQ(pbxmpm("fit temperature " + two + " --T0 293").code, 0);
   // a study whose base is a folder or a study deck is refused before anything is written
-  const std::string s1 = write("s1.toml", "[study]\nname = \"x\"\nbase = \".\"\n[[study.group]]\nname = \"a\"\n"
-                                          "key = \"solver.mass_scaling\"\nvalues = [10]\n");
+  const std::string s1 = write("s1.toml",
+                               "[study]\nname = \"x\"\nbase = \".\"\n[[study.group]]\nname = \"a\"\n"
+                               "key = \"solver.mass_scaling\"\nvalues = [10]\n");
   expect_refused("study " + s1 + " --out " + (dir / "s1").string(), "' is a folder, not a run deck");
   EXPECT_FALSE(fs::exists(dir / "s1"));
-  const std::string s2 = write("s2.toml", "[study]\nname = \"x\"\nbase = \"s2.toml\"\n[[study.group]]\nname = \"a\"\n"
-                                          "key = \"solver.mass_scaling\"\nvalues = [10]\n");
+  const std::string s2 = write("s2.toml",
+                               "[study]\nname = \"x\"\nbase = \"s2.toml\"\n[[study.group]]\nname = \"a\"\n"
+                               "key = \"solver.mass_scaling\"\nvalues = [10]\n");
   expect_refused("study " + s2 + " --out " + (dir / "s2").string(), "study.base: names this study deck itself");
 }
 
@@ -124,7 +134,8 @@ TEST_F(CommandLine, ErrorsNameTheirCause) {
 TEST_F(CommandLine, SetOverridesADeckKeyCheckedLikeTheDeck) {
   const std::string demo = (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string();
   const fs::path out = dir / "set";
-  const Result r = pbxmpm(fmt::format("run {} --set run.end_strain=0.004 --set solver.mass_scaling=100 --out {} -q", demo, out.string()));
+  const Result r = pbxmpm(
+      fmt::format("run {} --set run.end_strain=0.004 --set solver.mass_scaling=100 --out {} -q", demo, out.string()));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("pbxmpm: finished: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("results in " + out.string()), std::string::npos) << r.output;
@@ -138,12 +149,15 @@ TEST_F(CommandLine, SetOverridesADeckKeyCheckedLikeTheDeck) {
   }
   ASSERT_GT(cells.size(), 3u);
   EXPECT_EQ(cells[3], "0.004") << "the strain of the last row: " << last;
-  expect_refused(fmt::format("check {} --set 'grid.cel_size=\"10 um\"'", demo), "(as rewritten by --set):9: unknown key 'grid.cel_size'");
-  expect_refused(fmt::format("check {} --set 'grid.cell_size=10 um'", demo), "--set 'grid.cell_size': cannot read value '10 um'");
+  expect_refused(fmt::format("check {} --set 'grid.cel_size=\"10 um\"'", demo),
+                 "(as rewritten by --set):9: unknown key 'grid.cel_size'");
+  expect_refused(fmt::format("check {} --set 'grid.cell_size=10 um'", demo),
+                 "--set 'grid.cell_size': cannot read value '10 um'");
   expect_refused(fmt::format("check {} --set novalue", demo), "--set 'novalue': expected KEY=VALUE");
   const std::string quick = (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "quick.toml").string();
-  expect_refused(fmt::format("study {} --set 'run.temperature=\"300 K\"' --out {} --no-report", quick, (dir / "q").string()),
-                 "--set 'run.temperature': group 'temperature' varies this key");
+  expect_refused(
+      fmt::format("study {} --set 'run.temperature=\"300 K\"' --out {} --no-report", quick, (dir / "q").string()),
+      "--set 'run.temperature': group 'temperature' varies this key");
 }
 
 // `pbxmpm check` validates the README's own study deck as the study would (every run deck built).
@@ -156,8 +170,10 @@ TEST_F(CommandLine, CheckValidatesAStudyDeck) {
 // analyze's numeric flags are checked, not ignored when out of range (they are read before the
 // run directory, so a missing directory does not hide the error).
 TEST_F(CommandLine, AnalyzeFlagsAreCheckedNotIgnored) {
-  expect_refused("analyze " + dir.string() + " --strength-strain -0.03", "--strength-strain: expected a finite number > 0");
-  expect_refused("analyze " + dir.string() + " --window-tolerance nan", "--window-tolerance: expected a finite number > 0");
+  expect_refused("analyze " + dir.string() + " --strength-strain -0.03",
+                 "--strength-strain: expected a finite number > 0");
+  expect_refused("analyze " + dir.string() + " --window-tolerance nan",
+                 "--window-tolerance: expected a finite number > 0");
   expect_refused("analyze " + dir.string() + " --ke-ie-limit -1", "--ke-ie-limit: expected a finite number >= 0");
 }
 
@@ -166,17 +182,20 @@ TEST_F(CommandLine, ThreadsAndOutputFolderAreChecked) {
   const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string();
   expect_refused("run " + deck + " --threads 0 -q", "1 to 1024");
   expect_refused("run " + deck + " --threads 100000 -q", "1 to 1024");
-  expect_refused("run " + deck + " --out /proc/pbxmpm_cannot_be_here -q", "file system error on '/proc/pbxmpm_cannot_be_here");
+  expect_refused("run " + deck + " --out /proc/pbxmpm_cannot_be_here -q",
+                 "file system error on '/proc/pbxmpm_cannot_be_here");
 }
 
 // `pbxmpm material` checks the whole material table, as a run does.
 TEST_F(CommandLine, MaterialCommandRefusesUnknownKeys) {
-  const std::string deck = write("m.toml", "[materials.block]\nmodel = \"linear_elastic\"\ndensity = \"1.934 g/cm3\"\n"
-                                           "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\nfoo = 3\n");
+  const std::string deck = write("m.toml",
+                                 "[materials.block]\nmodel = \"linear_elastic\"\ndensity = \"1.934 g/cm3\"\n"
+                                 "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\nfoo = 3\n");
   expect_refused("material " + deck + " --material block --path uniaxial_strain --strain -0.01 --rate 100",
                  "unknown key 'materials.block.foo'");
-  const std::string good = write("g.toml", "[materials.block]\nmodel = \"linear_elastic\"\ndensity = \"1.934 g/cm3\"\n"
-                                           "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\n");
+  const std::string good = write("g.toml",
+                                 "[materials.block]\nmodel = \"linear_elastic\"\ndensity = \"1.934 g/cm3\"\n"
+                                 "bulk_modulus = \"10.59 GPa\"\nshear_modulus = \"11.5 GPa\"\n");
   const std::string load = "material " + good + " --material block --path uniaxial_strain --strain -0.01 --steps 10";
   EXPECT_EQ(pbxmpm(load + " --rate 100").code, 0);
   // the loading time is |strain|/rate: a second definition used to be ignored without a word
@@ -196,7 +215,8 @@ TEST_F(CommandLine, PackReadsARunDeckAndChecksItsOutputFolderFirst) {
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("seed 7"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "p" / "packing.csv"));
-  expect_refused("pack " + deck + " --out /proc/pbxmpm_cannot_be_here", "file system error on '/proc/pbxmpm_cannot_be_here");
+  expect_refused("pack " + deck + " --out /proc/pbxmpm_cannot_be_here",
+                 "file system error on '/proc/pbxmpm_cannot_be_here");
 }
 
 // `pbxmpm run --restart checkpoint.h5` with the checkpoint in the current folder continues the run
@@ -210,8 +230,9 @@ TEST_F(CommandLine, RestartFromABareCheckpointNameWritesBesideIt) {
   ASSERT_EQ(pbxmpm(fmt::format("run {} --out {} -q --checkpoint-every 5", d, part.string())).code, 0);
   ASSERT_TRUE(fs::exists(part / "checkpoint.h5"));
   fs::remove(part / "run.json");  // the restart must write it again (with an empty --out it wrote nothing)
-  {  // start from the checkpoint's own folder, naming it bare
-    const std::string cmd = fmt::format("cd '{}' && '{}' run --restart checkpoint.h5 -q 2>&1", part.string(), PBXMPM_BINARY);
+  {                               // start from the checkpoint's own folder, naming it bare
+    const std::string cmd =
+        fmt::format("cd '{}' && '{}' run --restart checkpoint.h5 -q 2>&1", part.string(), PBXMPM_BINARY);
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   auto slurp = [](const fs::path& p) {
@@ -245,8 +266,9 @@ TEST_F(CommandLine, AFolderAnotherProcessWritesIsRefused) {
 // runs' analysis.json files are used as they are), a deck beside run --restart (the checkpoint's
 // own deck is the one that runs).
 TEST_F(CommandLine, IgnoredOptionsAreRefused) {
-  expect_refused("report " + dir.string() + " --reuse-analysis --window 0.004:0.02",
-                 "report: --window changes the analysis, but --reuse-analysis uses the runs' analysis.json as they are");
+  expect_refused(
+      "report " + dir.string() + " --reuse-analysis --window 0.004:0.02",
+      "report: --window changes the analysis, but --reuse-analysis uses the runs' analysis.json as they are");
   expect_refused("report " + dir.string() + " --reuse-analysis --options " + write("a.toml", "[analysis]\n"),
                  "report: --options changes the analysis");
   const std::string deck = write("block.toml", pbx::test::block_deck(100, 0.005));
@@ -262,10 +284,10 @@ TEST_F(CommandLine, BashCompletionOffersSubcommandsOptionsAndFiles) {
   const std::string script = (fs::path(PBXMPM_SOURCE_DIR) / "tools" / "completion" / "pbxmpm.bash").string();
   const std::string examples = PBXMPM_EXAMPLES_DIR;
   auto complete = [&](const std::string& words) {
-    return pbx::test::shell(fmt::format(
-        "bash -c 'source \"{}\"; COMP_WORDS=({} {}); COMP_CWORD=$((${{#COMP_WORDS[@]}}-1)); _pbxmpm; "
-        "printf \"%s\\n\" \"${{COMPREPLY[@]}}\"'",
-        script, PBXMPM_BINARY, words));
+    return pbx::test::shell(
+        fmt::format("bash -c 'source \"{}\"; COMP_WORDS=({} {}); COMP_CWORD=$((${{#COMP_WORDS[@]}}-1)); _pbxmpm; "
+                    "printf \"%s\\n\" \"${{COMPREPLY[@]}}\"'",
+                    script, PBXMPM_BINARY, words));
   };
   pbx::test::Result r = complete("st");
   ASSERT_EQ(r.code, 0) << r.output;

@@ -95,9 +95,11 @@ class Faults : public pbx::test::BinaryTest {
 // process at exit with 139); no checkpoint.h5 or .tmp is left, and run.json says "failed".
 TEST_F(Faults, ACheckpointThatDoesNotFitIsAbsentNotPartial) {
   const std::string deck = write("col.toml", column_deck());
-  const Result r = shell(fmt::format("ulimit -f 300; {{pbx}} run {} --out {} -q --checkpoint-every 5", deck, (dir / "r").string()));
+  const Result r =
+      shell(fmt::format("ulimit -f 300; {{pbx}} run {} --out {} -q --checkpoint-every 5", deck, (dir / "r").string()));
   EXPECT_EQ(r.code, 4) << r.output;
-  EXPECT_NE(r.output.find("output error: cannot write '" + (dir / "r" / "checkpoint.h5").string() + "'"), std::string::npos)
+  EXPECT_NE(r.output.find("output error: cannot write '" + (dir / "r" / "checkpoint.h5").string() + "'"),
+            std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("HDF5-DIAG"), std::string::npos) << "an HDF5 error dump instead of one line:\n" << r.output;
   EXPECT_FALSE(fs::exists(dir / "r" / "checkpoint.h5"));
@@ -134,8 +136,8 @@ TEST_F(Faults, FlippedBitsInACheckpointAreRefusedOrHarmless) {
   const int trials = 24;
   for (int k = 0; k < trials; ++k) {
     // half spread evenly over the file (data), half in its first 4 kB (HDF5's metadata)
-    const std::size_t at = k % 2 == 0 ? good.size() * (k + 1) / (trials + 2)
-                                      : std::uniform_int_distribution<std::size_t>(0, 4095)(rng);
+    const std::size_t at =
+        k % 2 == 0 ? good.size() * (k + 1) / (trials + 2) : std::uniform_int_distribution<std::size_t>(0, 4095)(rng);
     const fs::path run = dir / fmt::format("flip{}", k);
     fs::create_directories(run);
     fs::copy_file(ref / "history.csv", run / "history.csv");
@@ -286,7 +288,8 @@ TEST_F(Faults, CtrlCSavesACheckpointThatResumesBitForBit) {
   kill(pid, SIGINT);
   ASSERT_EQ(wait_code(pid), 130) << slurp(log);
   EXPECT_EQ(json_status(run / "run.json"), "interrupted");
-  EXPECT_NE(slurp(log).find("continue with: pbxmpm run --restart " + (run / "checkpoint.h5").string()), std::string::npos)
+  EXPECT_NE(slurp(log).find("continue with: pbxmpm run --restart " + (run / "checkpoint.h5").string()),
+            std::string::npos)
       << slurp(log);
   ASSERT_TRUE(fs::exists(run / "checkpoint.h5"));
   const Result r = shell(fmt::format("{{pbx}} run --restart {} -q", (run / "checkpoint.h5").string()));
@@ -299,11 +302,12 @@ TEST_F(Faults, CtrlCSavesACheckpointThatResumesBitForBit) {
 // run's history equal to the uninterrupted study's, and never reports a run from a damaged file.
 TEST_F(Faults, StudiesKilledAtRandomPointsResumeBitForBit) {
   write("base.toml", column_deck(0.01, 10));
-  const std::string study =
-      write("study.toml", "[study]\nname = \"kill\"\nbase = \"base.toml\"\n"
-                          "[[study.group]]\nname = \"ms\"\nkey = \"solver.mass_scaling\"\nvalues = [10, 20]\n");
+  const std::string study = write("study.toml",
+                                  "[study]\nname = \"kill\"\nbase = \"base.toml\"\n"
+                                  "[[study.group]]\nname = \"ms\"\nkey = \"solver.mass_scaling\"\nvalues = [10, 20]\n");
   const fs::path ref = dir / "ref";
-  const Result r0 = shell(fmt::format("{{pbx}} study {} --out {} -q --no-report --checkpoint-every 1", study, ref.string()));
+  const Result r0 =
+      shell(fmt::format("{{pbx}} study {} --out {} -q --no-report --checkpoint-every 1", study, ref.string()));
   ASSERT_EQ(r0.code, 0) << r0.output;
   std::vector<std::string> ids;
   for (const auto& e : fs::directory_iterator(ref / "runs")) ids.push_back(e.path().filename().string());
@@ -312,7 +316,8 @@ TEST_F(Faults, StudiesKilledAtRandomPointsResumeBitForBit) {
   std::uniform_int_distribution<int> ms(100, 3000);
   for (int k = 0; k < 10; ++k) {
     const fs::path out = dir / fmt::format("s{}", k), log = dir / fmt::format("s{}.log", k);
-    const std::vector<std::string> args = {"study", study, "--out", out.string(), "-q", "--no-report", "--checkpoint-every", "1"};
+    const std::vector<std::string> args = {
+        "study", study, "--out", out.string(), "-q", "--no-report", "--checkpoint-every", "1"};
     pid_t pid = spawn(args, log);
     ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(ms(rng)));
@@ -322,7 +327,8 @@ TEST_F(Faults, StudiesKilledAtRandomPointsResumeBitForBit) {
       ASSERT_EQ(wait_code(pid), 0) << "trial " << k << ":\n" << slurp(log);
     }
     for (const auto& id : ids) {
-      EXPECT_EQ(slurp(out / "runs" / id / "history.csv"), slurp(ref / "runs" / id / "history.csv")) << "trial " << k << ", " << id;
+      EXPECT_EQ(slurp(out / "runs" / id / "history.csv"), slurp(ref / "runs" / id / "history.csv"))
+          << "trial " << k << ", " << id;
       EXPECT_EQ(json_status(out / "runs" / id / "run.json"), "finished") << "trial " << k << ", " << id;
       EXPECT_TRUE(fs::exists(out / "runs" / id / "analysis.json")) << "trial " << k << ", " << id;
     }
@@ -336,10 +342,10 @@ TEST_F(Faults, StudiesKilledAtRandomPointsResumeBitForBit) {
 // then finishes the study, with the uninterrupted study's histories.
 TEST_F(Faults, ASignalAsARunFinishesStopsTheStudy) {
   write("base.toml", column_deck(0.01, 10, 0, 8));
-  const std::string study =
-      write("study.toml", "[study]\nname = \"sig\"\nbase = \"base.toml\"\n"
-                          "[[study.group]]\nname = \"ms\"\nkey = \"solver.mass_scaling\"\nvalues = [10, 20]\n"
-                          "[analysis]\nlinear_window = [0.004, 0.01]\n");  // eight rows: the window by hand
+  const std::string study = write("study.toml",
+                                  "[study]\nname = \"sig\"\nbase = \"base.toml\"\n"
+                                  "[[study.group]]\nname = \"ms\"\nkey = \"solver.mass_scaling\"\nvalues = [10, 20]\n"
+                                  "[analysis]\nlinear_window = [0.004, 0.01]\n");  // eight rows: the window by hand
   const fs::path ref = dir / "ref", out = dir / "out", log = dir / "out.log";
   const Result r0 = shell(fmt::format("{{pbx}} study {} --out {} -q --no-report", study, ref.string()));
   ASSERT_EQ(r0.code, 0) << r0.output;

@@ -43,8 +43,8 @@ std::vector<std::vector<std::string>> condition_rows(const std::filesystem::path
 
 TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   const std::string deck = (std::filesystem::path(PBXMPM_EXAMPLES_DIR) / "own" / "binder_stiffer.toml").string();
-  const pbx::test::Result r =
-      pbx::test::pbxmpm(fmt::format("study {} --set 'grid.cell_size=\"40 um\"' --out {} -q", deck, (dir / "s").string()));
+  const pbx::test::Result r = pbx::test::pbxmpm(
+      fmt::format("study {} --set 'grid.cell_size=\"40 um\"' --out {} -q", deck, (dir / "s").string()));
   ASSERT_EQ(r.code, 0) << r.output;
   std::map<std::string, double> E;
   for (const auto& cells : condition_rows(dir / "s" / "report" / "conditions.csv")) {
@@ -56,7 +56,8 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   ASSERT_GT(E["reference"], 0.0);
   // measured with the uniform film (2026-12-04): 2.70 and 4.38 GPa at 40 um cells (2.97 and 4.35 at the
   // deck's 20 um); with the integrated film (2026-12-05) 2.75 and 4.07 GPa at 20 um
-  EXPECT_GT(E["binder_x2"] / E["reference"], 1.2) << "reference " << E["reference"] << " GPa, binder x2 " << E["binder_x2"];
+  EXPECT_GT(E["binder_x2"] / E["reference"], 1.2)
+      << "reference " << E["reference"] << " GPa, binder x2 " << E["binder_x2"];
   EXPECT_LT(E["binder_x2"] / E["reference"], 2.0);  // a stiffer binder cannot more than double E
   // the ratio table answers the question directly: binder_x2 against the study's first condition,
   // the same ratio as the two means (one seed: no interval)
@@ -67,7 +68,8 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   EXPECT_EQ(line.rfind("binder_x2,", 0), 0u) << line;
   const std::size_t at = line.find(',', line.find(',', line.find(',') + 1) + 1);  // after group, reference, value
   // both tables print 3 significant digits: the ratio of two rounded moduli agrees to about 1 %
-  EXPECT_NEAR(std::stod(line.substr(at + 1)), E["binder_x2"] / E["reference"], 0.01 * E["binder_x2"] / E["reference"]) << line;
+  EXPECT_NEAR(std::stod(line.substr(at + 1)), E["binder_x2"] / E["reference"], 0.01 * E["binder_x2"] / E["reference"])
+      << line;
   EXPECT_NE(line.find("one seed"), std::string::npos) << line;
 }
 
@@ -117,6 +119,7 @@ TEST_F(OwnStudy, PorosityQuestionIsAnsweredWithPairedSeeds) {
   // a scene note (here the re-colouring at 40 um cells) is printed once per run, not again when the
   // study checks every run's deck before starting (it printed 12 for 6 runs until 2026-12-05)
   int notes = 0;
-  for (auto at = r.output.find("re-coloured"); at != std::string::npos; at = r.output.find("re-coloured", at + 1)) ++notes;
+  for (auto at = r.output.find("re-coloured"); at != std::string::npos; at = r.output.find("re-coloured", at + 1))
+    ++notes;
   EXPECT_LE(notes, 6) << r.output;
 }

@@ -100,8 +100,8 @@ TEST(BinderLayer, LayeredColumnInUniaxialStrainMatchesTheSeriesCompliance) {
       const auto rows = run_column(lower, dn);
       double measured = 0, closed = 0;
       compliance(rows, 0.01, 0.03, dn, measured, closed);
-      std::fprintf(stderr, "interface at %.0f um, D_n H/M = %g: compliance %+.2f %% of the closed form\n", lower,
-                   ratio, 100.0 * (measured / closed - 1.0));  // the figures docs/theory/contact.md quotes
+      std::fprintf(stderr, "interface at %.0f um, D_n H/M = %g: compliance %+.2f %% of the closed form\n", lower, ratio,
+                   100.0 * (measured / closed - 1.0));  // the figures docs/theory/contact.md quotes
       EXPECT_NEAR(measured / closed, 1.0, 0.02) << "interface at " << lower << " um, D_n H/M = " << ratio;
     }
   }
@@ -441,7 +441,9 @@ poisson_ratio = 0.3
   ASSERT_EQ(uniform.size(), integrated.size());
   ASSERT_GT(uniform.back(), 1e6);
   double worst = 0;
-  for (std::size_t k = 0; k < uniform.size(); ++k) worst = std::max(worst, std::abs(integrated[k] - uniform[k]) / uniform.back());
-  std::fprintf(stderr, "integrated vs uniform film on a flat contact: largest difference %.3f %% of the end stress\n", 100 * worst);
+  for (std::size_t k = 0; k < uniform.size(); ++k)
+    worst = std::max(worst, std::abs(integrated[k] - uniform[k]) / uniform.back());
+  std::fprintf(stderr, "integrated vs uniform film on a flat contact: largest difference %.3f %% of the end stress\n",
+               100 * worst);
   EXPECT_LT(worst, 5e-3);
 }

@@ -134,8 +134,11 @@ TEST(ContactDeck, BadDecksNameTheKey) {
               HasSubstr("coat_scale"));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"bonded\"\n"),
               AllOf(HasSubstr("film"), HasSubstr("'uniform' or 'integrated'")));
-  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_stress = \"10 MPa\"\nflow_factor = 0.5\n"),
-              AllOf(HasSubstr("flow_factor"), HasSubstr("not both")));
+  EXPECT_THAT(
+      error_of(
+          layer +
+          "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_stress = \"10 MPa\"\nflow_factor = 0.5\n"),
+      AllOf(HasSubstr("flow_factor"), HasSubstr("not both")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_factor = -0.5\n"),
               AllOf(HasSubstr("flow_factor"), HasSubstr("> 0")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nflow_stress = \"-1 MPa\"\n"),
@@ -144,10 +147,15 @@ TEST(ContactDeck, BadDecksNameTheKey) {
               AllOf(HasSubstr("flow_factor"), HasSubstr("shear modulus")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm_extent = 3\n"),
               AllOf(HasSubstr("film_extent"), HasSubstr("integrated")));
-  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nfilm_extent = -1\n"),
-              HasSubstr("film_extent"));
-  EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nbond_gap = \"2 um\"\n"),
-              AllOf(HasSubstr("bond_gap"), HasSubstr("integrated")));
+  EXPECT_THAT(
+      error_of(layer +
+               "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nfilm_extent = -1\n"),
+      HasSubstr("film_extent"));
+  EXPECT_THAT(
+      error_of(
+          layer +
+          "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"integrated\"\nbond_gap = \"2 um\"\n"),
+      AllOf(HasSubstr("bond_gap"), HasSubstr("integrated")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coat\"\n"), HasSubstr("thickness"));
   // the disks here are [[geometry]], not a packing: no coats to take the thickness from
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"coats\"\n"),

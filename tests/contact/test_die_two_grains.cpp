@@ -125,8 +125,8 @@ TEST(DieTwoGrains, PunchForceEqualsWallForcesPlusMomentumRate) {
   EXPECT_GT(last.punch_force, 0.0);
   EXPECT_GT(last.pair_force.at(0)[0], 0.05 * last.punch_force);  // binder_tatb normal
   EXPECT_GT(last.pair_force.at(1)[0], 0.0);                      // tatb_tatb normal
-  std::printf("punch %.4g N/m, binder-tatb fn %.4g, tatb-tatb fn %.4g N/m\n", last.punch_force,
-              last.pair_force[0][0], last.pair_force[1][0]);
+  std::printf("punch %.4g N/m, binder-tatb fn %.4g, tatb-tatb fn %.4g N/m\n", last.punch_force, last.pair_force[0][0],
+              last.pair_force[1][0]);
 }
 
 // Energy where grain fields meet the die walls, at the paper decks' step (20 um cells, cfl 0.4,

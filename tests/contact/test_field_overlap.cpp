@@ -30,7 +30,7 @@ constexpr double kSide = 2e-6;  // particle domain side (2 x 2 particles per 4 u
 TEST(FieldOverlap, ExactAreaOfTwoOverlappingDomains) {
   Grid<2> g = small_grid();
   Particles<2> P;
-  P.add(Vec<2>(10e-6, 10e-6), kSide * kSide, 1e-9, 0, 0);  // domain [9, 11] x [9, 11] um
+  P.add(Vec<2>(10e-6, 10e-6), kSide * kSide, 1e-9, 0, 0);    // domain [9, 11] x [9, 11] um
   P.add(Vec<2>(11e-6, 10.5e-6), kSide * kSide, 1e-9, 0, 1);  // [10, 12] x [9.5, 11.5]: overlap 1 x 1.5 um
   FieldOverlap o(g, FieldOverlap::default_pixel(P));
   EXPECT_DOUBLE_EQ(o.pixel(), 0.5e-6);

@@ -79,7 +79,8 @@ ramp_time = "1.2 us"
                      fmt::arg("h", h), fmt::arg("R", kR), fmt::arg("E", kE), fmt::arg("nu", kNu),
                      fmt::arg("gx0", -kR - 6 * h), fmt::arg("gx1", kR + 6 * h), fmt::arg("gy0", -8 * h),
                      fmt::arg("gy1", 2 * kR + 3 * h), fmt::arg("fx0", -kR - 3 * h), fmt::arg("fx1", kR + 3 * h),
-                     fmt::arg("fy0", -4 * h), fmt::arg("cy0", -6 * h), fmt::arg("cy1", -2 * h), fmt::arg("Ef", kEflat), fmt::arg("pc", 0.8), fmt::arg("py1", kR + 2 * h));
+                     fmt::arg("fy0", -4 * h), fmt::arg("cy0", -6 * h), fmt::arg("cy1", -2 * h), fmt::arg("Ef", kEflat),
+                     fmt::arg("pc", 0.8), fmt::arg("py1", kR + 2 * h));
 }
 
 // Keeps the particles below the diameter (y < R): rebuilds the particle arrays and the material
@@ -163,9 +164,10 @@ double final_error(double h, bool strict) {
 TEST(Hertz, ContactHalfWidthOfACylinderOnAStiffFlat) {
   const double coarse = final_error(20e-6, false), fine = final_error(10e-6, true);
   const double richardson = 2 * fine - coarse, order = std::log2(coarse / fine);
-  std::printf("Hertz half-width at the final load: %+.1f %% (R = 16 cells), %+.1f %% (R = 32 cells); first-order "
-              "Richardson %+.2f %%, observed order %.2f\n",
-              100 * coarse, 100 * fine, 100 * richardson, order);
+  std::printf(
+      "Hertz half-width at the final load: %+.1f %% (R = 16 cells), %+.1f %% (R = 32 cells); first-order "
+      "Richardson %+.2f %%, observed order %.2f\n",
+      100 * coarse, 100 * fine, 100 * richardson, order);
   EXPECT_LT(std::abs(fine), 0.10);
   EXPECT_GT(order, 0.7);  // first order (a band of nodes a cell wide)
   EXPECT_LT(order, 1.5);

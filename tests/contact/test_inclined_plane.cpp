@@ -49,7 +49,8 @@ poisson_ratio = 0.3
 min = ["0 mm", "0 mm"]
 max = ["0.2 mm", "0.04 mm"]
 material = "block"
-)", gx, gy);
+)",
+                                 gx, gy);
   if (plane == Plane::rigid) {
     text += fmt::format(R"(
 [[rigid]]
@@ -58,7 +59,8 @@ min = ["-0.04 mm", "-0.04 mm"]
 max = ["0.44 mm", "0 mm"]
 normal = [0, 1]
 friction = {}
-)", mu);
+)",
+                        mu);
   } else {
     text += fmt::format(R"(
 [materials.plane]
@@ -79,16 +81,17 @@ contact = "stick"
 [contact]
 default = "coulomb"
 friction = {}
-)", mu);
+)",
+                        mu);
   }
   return text;
 }
 
 struct Slide {
-  double accel = 0;        // fitted mass-centre acceleration along x, m/s^2
-  double distance = 0;     // mass-centre displacement along x at the end, m
+  double accel = 0;          // fitted mass-centre acceleration along x, m/s^2
+  double distance = 0;       // mass-centre displacement along x at the end, m
   double friction_work = 0;  // dissipated energy at the end, J/m
-  double mass = 0;         // block mass, kg/m
+  double mass = 0;           // block mass, kg/m
 };
 
 Slide slide(Plane plane, double theta, double mu) {
@@ -118,7 +121,11 @@ Slide slide(Plane plane, double theta, double mu) {
     centre(x, v);
     const double t = solver.time();
     if (t < 0.2 * t_end) continue;
-    st += t; sv += v; stt += t * t; stv += t * v; n += 1;
+    st += t;
+    sv += v;
+    stt += t * t;
+    stv += t * v;
+    n += 1;
   }
   s.accel = (n * stv - st * sv) / (n * stt - st * st);
   s.distance = x - x0;

@@ -46,9 +46,9 @@ TEST(NodeLaw, FrictionlessStopsNormalApproachKeepsTangential) {
   const Vec<2> p0 = g.mom[0] + g.mom[1];
   const double w = field_contact<2>(g, matrix(2, {ContactLaw::frictionless, 0, 0}), 2, 1e-9, 0.0);
   const Vec<2> va = g.mom[0] / 2.0, vb = g.mom[1] / 3.0;
-  EXPECT_NEAR(va.x(), vb.x(), 1e-15);           // normal relative velocity removed
+  EXPECT_NEAR(va.x(), vb.x(), 1e-15);             // normal relative velocity removed
   EXPECT_NEAR(va.x(), (2.0 - 1.5) / 5.0, 1e-15);  // centre-of-mass normal velocity
-  EXPECT_DOUBLE_EQ(va.y(), 0.4);                // tangential untouched
+  EXPECT_DOUBLE_EQ(va.y(), 0.4);                  // tangential untouched
   EXPECT_DOUBLE_EQ(vb.y(), -0.2);
   EXPECT_EQ((g.mom[0] + g.mom[1] - p0).norm(), 0.0);
   EXPECT_EQ(w, 0.0);
@@ -139,7 +139,9 @@ TEST(NodeLaw, NormalOptionsDecideTheDirection) {
 
 TEST(NodeLaw, ThreeFieldsConserveMomentumAndStopApproach) {
   Grid<2> g = one_node(3);
-  g.mass[0] = 1.0; g.mass[1] = 2.0; g.mass[2] = 0.5;
+  g.mass[0] = 1.0;
+  g.mass[1] = 2.0;
+  g.mass[2] = 0.5;
   g.mom[0] = Vec<2>(1.0, 0.3);
   g.mom[1] = Vec<2>(-2.0, 0.1);
   g.mom[2] = Vec<2>(0.2, -0.4);
@@ -204,7 +206,7 @@ TEST(NodeLaw, BinderLayerSpringWithPairThicknessAndCoulombCap) {
       field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
       const double kn = 0.75 * 3.6e8 * inv_t, kt = 0.75 * 7.0e7 * inv_t;
       const double Jn = dt * kn / (1.0 + kn * dt * dt / kMuRed) * closing;  // pushes a to -x
-      double Jt = dt * kt / (1.0 + kt * dt * dt / kMuRed) * sliding;       // drags a to +y
+      double Jt = dt * kt / (1.0 + kt * dt * dt / kMuRed) * sliding;        // drags a to +y
       ASSERT_LT(mu * Jn, 0.5 * Jt) << "the cap must bind in this case";
       if (cap) Jt = mu * Jn;
       EXPECT_NEAR(n.g.mom[0].x(), -Jn, 1e-12 * Jn) << cap << " " << tb;

@@ -33,8 +33,15 @@ Outcome collide(const std::string& law, const std::string& lines = "") {
     for (std::size_t p = 0; p < sc.particles.size(); ++p) {
       const bool left = sc.field_names[static_cast<std::size_t>(sc.particles.field[p])] == "left";
       const double x = sc.particles.x[p].x(), m = sc.particles.mass[p], v = sc.particles.v[p].x();
-      if (left) { xl = std::max(xl, x); ml += m; pl += m * v; }
-      else { xr = std::min(xr, x); mr += m; pr += m * v; }
+      if (left) {
+        xl = std::max(xl, x);
+        ml += m;
+        pl += m * v;
+      } else {
+        xr = std::min(xr, x);
+        mr += m;
+        pr += m * v;
+      }
     }
     gap = xr - xl;
     vl = pl / ml;

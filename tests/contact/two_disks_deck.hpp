@@ -10,8 +10,10 @@ inline std::string two_disks_deck(const std::string& law, const std::string& end
                                   int history_points = 60, const std::string& contact_lines = "") {
   return R"(
 [run]
-end_time = ")" + end_time + R"("
-history_points = )" + std::to_string(history_points) + R"(
+end_time = ")" +
+         end_time + R"("
+history_points = )" +
+         std::to_string(history_points) + R"(
 snapshots = 0
 [grid]
 cell_size = "10 um"
@@ -28,7 +30,8 @@ density = "2.0 g/cm3"
 youngs_modulus = "1 GPa"
 poisson_ratio = 0.3
 [contact]
-default = ")" + law + "\"\n" + contact_lines + R"(
+default = ")" +
+         law + "\"\n" + contact_lines + R"(
 [[geometry]]
 shape = "disk"
 center = ["0.1 mm", "0.1 mm"]

@@ -21,8 +21,7 @@ TEST(Deck, ReadsQuantitiesAndReportsUnknownKeysWithLine) {
 TEST(Deck, NamesMissingAndNonPhysicalKeys) {
   auto deck = Deck::from_string("[m]\ndensity = -3.0\nname = 4\n", "d.toml");
   auto m = deck.root().table("m");
-  EXPECT_NE(message_of([&] { m.positive("density", dim::density); }).find("m.density: must be > 0"),
-            std::string::npos);
+  EXPECT_NE(message_of([&] { m.positive("density", dim::density); }).find("m.density: must be > 0"), std::string::npos);
   EXPECT_NE(message_of([&] { m.quantity("shear_modulus", dim::pressure); }).find("m.shear_modulus: required"),
             std::string::npos);
   EXPECT_NE(message_of([&] { m.string("name"); }).find("expected a string"), std::string::npos);

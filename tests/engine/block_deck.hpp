@@ -40,7 +40,8 @@ shear_modulus = "11.5 GPa"
 min = ["0 mm", "0 mm"]
 max = ["{4} mm", "{5} mm"]
 material = "block"
-)", end_strain, kernel, integrator, mass_scaling, width_mm, height_mm);
+)",
+                     end_strain, kernel, integrator, mass_scaling, width_mm, height_mm);
 }
 
 }  // namespace pbx::test

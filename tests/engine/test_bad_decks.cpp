@@ -45,12 +45,14 @@ TEST(BadDecks, EachClassNamesItsKey) {
       {"mass_scaling = 100", "mass_scaling = 0.5", "solver.mass_scaling: must be >= 1"},
       {"mass_scaling = 100", "mass_scaling = \"fast\"", "solver.mass_scaling"},
       {"integrator = \"usl\"", "integrator = \"rk4\"", "unknown integrator 'rk4'"},
-      {"shape_function = \"ugimp\"", "shape_function = \"cubic\"", "grid.shape_function: unknown shape function 'cubic'"},
+      {"shape_function = \"ugimp\"", "shape_function = \"cubic\"",
+       "grid.shape_function: unknown shape function 'cubic'"},
       {"end_strain = 0.04", "end_strain = 0.7", "run.end_strain: must lie in (0, 0.5)"},
       // a specimen reaching into the punch or a wall
       {"max = [\"0.04 mm\", \"0.48 mm\"]", "max = [\"0.04 mm\", \"0.58 mm\"]",
        "geometry[0].max: reaches outside the die cavity"},
-      {"min = [\"0 mm\", \"0 mm\"]", "min = [\"-0.01 mm\", \"0 mm\"]", "geometry[0].min: reaches outside the die cavity"},
+      {"min = [\"0 mm\", \"0 mm\"]", "min = [\"-0.01 mm\", \"0 mm\"]",
+       "geometry[0].min: reaches outside the die cavity"},
       // toml's nan and inf are numbers: every quantity must be finite (inf passed every "> 0")
       {"density = \"1.934 g/cm3\"", "density = nan", "materials.block.density: must be a finite number"},
       {"shear_modulus = \"11.5 GPa\"", "shear_modulus = inf", "materials.block.shear_modulus: must be a finite number"},
@@ -62,13 +64,19 @@ TEST(BadDecks, EachClassNamesItsKey) {
       // a grid no machine holds is refused before anything is allocated
       {"cell_size = \"10 um\"", "cell_size = \"1 nm\"", "more than this machine's"},
       // a geometry entry that seeds nothing is an error, not a missing body
-      {"material = \"block\"\n", "material = \"block\"\n[[geometry]]\nmin = [\"0 mm\", \"0 mm\"]\nmax = [\"0.02 mm\", \"0.02 mm\"]\nmaterial = \"block\"\n",
+      {"material = \"block\"\n",
+       "material = \"block\"\n[[geometry]]\nmin = [\"0 mm\", \"0 mm\"]\nmax = [\"0.02 mm\", \"0.02 mm\"]\nmaterial = "
+       "\"block\"\n",
        "geometry[1].shape: this entry produced no particles"},
       // a rigid body may not take a die body's name (history columns and fields are named by it)
-      {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"punch\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 mm\"]\nnormal = [0, -1]\n",
+      {"material = \"block\"\n",
+       "material = \"block\"\n[[rigid]]\nname = \"punch\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 "
+       "mm\"]\nnormal = [0, -1]\n",
        "rigid[0].name: 'punch' is already the name"},
       // the contact face's normal is required, not zero by default (which read "must be a unit vector")
-      {"material = \"block\"\n", "material = \"block\"\n[[rigid]]\nname = \"anvil\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 mm\"]\n",
+      {"material = \"block\"\n",
+       "material = \"block\"\n[[rigid]]\nname = \"anvil\"\nmin = [\"0 mm\", \"0.5 mm\"]\nmax = [\"0.04 mm\", \"0.51 "
+       "mm\"]\n",
        "rigid[0].normal: required key missing"},
   };
   for (const auto& c : cases) {
@@ -81,7 +89,8 @@ TEST(BadDecks, EachClassNamesItsKey) {
 // not refused (the Hertz test uses a plate over half a disk as its symmetry plane).
 TEST(BadDecks, RigidBodyOverParticlesIsStated) {
   std::string deck = test::block_deck(100);
-  deck += "[[rigid]]\nname = \"anvil\"\nmin = [\"0 mm\", \"0.1 mm\"]\nmax = [\"0.04 mm\", \"0.11 mm\"]\nnormal = [0, -1]\n";
+  deck +=
+      "[[rigid]]\nname = \"anvil\"\nmin = [\"0 mm\", \"0.1 mm\"]\nmax = [\"0.04 mm\", \"0.11 mm\"]\nnormal = [0, -1]\n";
   testing::internal::CaptureStderr();
   Deck d = Deck::from_string(deck, "test.toml");
   Scene<2> sc = build_scene<2>(d);

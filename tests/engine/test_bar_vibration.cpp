@@ -20,7 +20,8 @@ history_points = 2001
 snapshots = 0
 [grid]
 cell_size = 0.5
-shape_function = ")" + kernel + R"("
+shape_function = ")" + kernel +
+                           R"("
 particles_per_cell = 2
 min = [-2.0, -2.0]
 max = [28.0, 3.0]
@@ -57,7 +58,8 @@ contact = "stick"
   // period from the downward zero crossings of v_cm (linear interpolation)
   std::vector<double> crossings;
   for (std::size_t i = 1; i < t.size(); ++i)
-    if (vcm[i - 1] > 0 && vcm[i] <= 0) crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * vcm[i - 1] / (vcm[i - 1] - vcm[i]));
+    if (vcm[i - 1] > 0 && vcm[i] <= 0)
+      crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * vcm[i - 1] / (vcm[i - 1] - vcm[i]));
   ASSERT_GE(crossings.size(), 5u);
   const double period = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
   EXPECT_NEAR(period, T, 0.01 * T) << kernel;

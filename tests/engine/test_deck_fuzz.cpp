@@ -28,13 +28,12 @@ using namespace pbx;
 
 namespace {
 
-
 // Every value node of the table, with the node that holds it (a table or an array) and its key or
 // index: what a mutation may replace or remove.
 struct Leaf {
   toml::node* parent;
-  std::string key;      // for a table parent
-  std::size_t index;    // for an array parent
+  std::string key;    // for a table parent
+  std::size_t index;  // for an array parent
   std::string path;
 };
 
@@ -71,7 +70,8 @@ void replace(const Leaf& l, toml::node&& v) {
 // A string holding a quantity ("20 um", "0.3 m/s"): its unit can be swapped for one of another
 // dimension, which no key accepts.
 bool is_quantity(const std::string& s) {
-  return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '-') && s.find(' ') != std::string::npos;
+  return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '-') &&
+         s.find(' ') != std::string::npos;
 }
 
 enum class Expect { refused, either };
@@ -160,12 +160,14 @@ TEST(DeckFuzz, MutatedExampleDecksAreBuiltOrRefusedClearly) {
       error = e.what();
     } catch (const std::exception& e) {
       ADD_FAILURE() << src.name << ", " << what << ": not a clear input error but " << typeid(e).name() << ": "
-                    << e.what() << "\n" << text.str();
+                    << e.what() << "\n"
+                    << text.str();
       continue;
     }
     if (ok) {
       ++built;
-      EXPECT_NE(expect, Expect::refused) << src.name << ", " << what << ": an invalid deck was accepted\n" << text.str();
+      EXPECT_NE(expect, Expect::refused) << src.name << ", " << what << ": an invalid deck was accepted\n"
+                                         << text.str();
     } else {
       ++refused;
       EXPECT_FALSE(error.empty()) << src.name << ", " << what;

@@ -39,7 +39,11 @@ double slope(const Curve& c, double a, double b, double (*y)(const Measurement&)
   for (auto& m : c.rows)
     if (m.strain >= a && m.strain <= b) {
       const double e = std::log(1.0 / (1.0 - m.strain));
-      sx += e; sy += y(m); sxx += e * e; sxy += e * y(m); n += 1;
+      sx += e;
+      sy += y(m);
+      sxx += e * e;
+      sxy += e * y(m);
+      n += 1;
     }
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
@@ -67,7 +71,8 @@ TEST(DieBlock, ConstrainedModulusLateralRatioAndQuasiStatic) {
     const Measurement& e = c.rows.back();
     EXPECT_EQ(e.dissipated, 0.0) << integ;
     EXPECT_NEAR(e.kinetic + e.internal, e.punch_work, 0.005 * e.punch_work) << integ;  // measured 0.02-0.14 %
-    std::printf("%s: (KE + IE - W)/W = %.3g at the end\n", integ, (e.kinetic + e.internal - e.punch_work) / e.punch_work);
+    std::printf("%s: (KE + IE - W)/W = %.3g at the end\n", integ,
+                (e.kinetic + e.internal - e.punch_work) / e.punch_work);
   }
 }
 
@@ -118,7 +123,8 @@ TEST(DieBlock, ShapeFunctionsThatFailTheDieTestAreRefused) {
       test::scene_from(test::block_deck(100, 0.01, "usl", kernel));
       ADD_FAILURE() << kernel << " was accepted in the die";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fmt::format("grid.shape_function: '{}' is refused in a run with rigid contact bodies", kernel)),
+      EXPECT_NE(std::string(e.what()).find(
+                    fmt::format("grid.shape_function: '{}' is refused in a run with rigid contact bodies", kernel)),
                 std::string::npos)
           << e.what();
     }

@@ -42,7 +42,8 @@ shape = "disk"
 center = ["0.1 mm", "0.1 mm"]
 radius = "0.05 mm"
 material = "disk"
-)", end_time, history_points, snapshots, material);
+)",
+                     end_time, history_points, snapshots, material);
 }
 }  // namespace
 
@@ -64,7 +65,8 @@ TEST(Instability, NonFiniteStateStopsNamingParticleAndKeepsOutput) {
     msg = e.what();
   }
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
-  EXPECT_EQ(msg.find("history column"), std::string::npos) << "caught by the row check, not the particle check: " << msg;
+  EXPECT_EQ(msg.find("history column"), std::string::npos)
+      << "caught by the row check, not the particle check: " << msg;
   EXPECT_NE(msg.find("particle"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'disk'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("step"), std::string::npos) << msg;
@@ -120,7 +122,8 @@ TEST(Instability, CompressionBeyondTheHugoniotFitStopsNamingParticleAndReason) {
   ASSERT_FALSE(msg.empty()) << "the run did not stop";
   EXPECT_NE(msg.find("particle 17 of material 'disk'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("non-finite stress at J = 0.4"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("mu = rho/rho0 - 1 = 1.5 beyond the limit of the Mie-Grueneisen Hugoniot fit"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mu = rho/rho0 - 1 = 1.5 beyond the limit of the Mie-Grueneisen Hugoniot fit"), std::string::npos)
+      << msg;
   EXPECT_NE(msg.find("1/(s1 - 1) = 0.7576"), std::string::npos) << msg;
 }
 
@@ -128,8 +131,9 @@ TEST(Instability, CompressionBeyondTheHugoniotFitStopsNamingParticleAndReason) {
 // to the next node row, or was written past the end of the grid's arrays, before).
 TEST(Instability, RigidBodyLeavingTheGridStopsTheRun) {
   std::string deck = test::block_deck(100, 0.01);
-  deck += "[[rigid]]\nname = \"runaway\"\nmin = [\"0.01 mm\", \"0.2 mm\"]\nmax = [\"0.02 mm\", \"0.21 mm\"]\n"
-          "normal = [0, -1]\nvelocity = [\"2000 m/s\", \"0 m/s\"]\n";
+  deck +=
+      "[[rigid]]\nname = \"runaway\"\nmin = [\"0.01 mm\", \"0.2 mm\"]\nmax = [\"0.02 mm\", \"0.21 mm\"]\n"
+      "normal = [0, -1]\nvelocity = [\"2000 m/s\", \"0 m/s\"]\n";
   testing::internal::CaptureStderr();  // it starts over block particles: stated, not refused
   Scene<2> sc = test::scene_from(deck);
   testing::internal::GetCapturedStderr();

@@ -26,8 +26,8 @@ void check_kernel(double a) {
     }
     EXPECT_NEAR(sw, 1.0, 1e-13) << s;
     EXPECT_NEAR(sg, 0.0, 1e-13) << s;
-    EXPECT_NEAR(sx, s, 1e-13) << s;    // linear completeness
-    EXPECT_NEAR(sxg, 1.0, 1e-13) << s; // gradient of x is 1
+    EXPECT_NEAR(sx, s, 1e-13) << s;     // linear completeness
+    EXPECT_NEAR(sxg, 1.0, 1e-13) << s;  // gradient of x is 1
   }
 }
 }  // namespace
@@ -133,9 +133,12 @@ double ugimp(double xi, double a) {
 
 template <Kernel K>
 double closed_form(double xi, double a) {
-  if constexpr (K == Kernel::linear) return hat(xi);
-  else if constexpr (K == Kernel::ugimp) return ugimp(xi, a);
-  else return bspline2(xi);
+  if constexpr (K == Kernel::linear)
+    return hat(xi);
+  else if constexpr (K == Kernel::ugimp)
+    return ugimp(xi, a);
+  else
+    return bspline2(xi);
 }
 
 // Positions where a kernel's weight has a kink (its gradient jumps): a difference straddling one

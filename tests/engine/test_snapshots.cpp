@@ -61,7 +61,9 @@ TEST(Snapshots, RigidBodiesAreWrittenBesideTheSpecimen) {
   }
   const std::string xmf = test::slurp((dir / "snapshots" / "snapshots.xmf").string());
   std::size_t grids = 0;
-  for (auto at = xmf.find("<Grid Name=\"rigid_bodies\""); at != std::string::npos; at = xmf.find("<Grid Name=\"rigid_bodies\"", at + 1)) ++grids;
+  for (auto at = xmf.find("<Grid Name=\"rigid_bodies\""); at != std::string::npos;
+       at = xmf.find("<Grid Name=\"rigid_bodies\"", at + 1))
+    ++grids;
   EXPECT_EQ(grids, 3u) << xmf;  // snapshots at t = 0, T/2, T
   const auto pos = read_doubles((dir / "snapshots" / "snap_0002.h5").string(), "rigid_position");
   ASSERT_EQ(pos.size(), 3 * rigid);

@@ -10,8 +10,7 @@
 namespace pbx::test {
 
 template <int D>
-std::unique_ptr<Material<D>> material_from(const std::string& body, double T = 293.0,
-                                           const std::string& name = "m") {
+std::unique_ptr<Material<D>> material_from(const std::string& body, double T = 293.0, const std::string& name = "m") {
   const Deck deck = Deck::from_string("[materials." + name + "]\n" + body, "test.toml");
   MaterialContext ctx;
   ctx.temperature = T;

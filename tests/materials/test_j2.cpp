@@ -24,7 +24,8 @@ hardening_modulus = {}
 hardening_beta = {}
 cowper_symonds_c = {}
 cowper_symonds_p = {}
-)", K, G, sigma0, Ep, beta, C, P);
+)",
+                     K, G, sigma0, Ep, beta, C, P);
 }
 
 // Plane-strain uniaxial strain along x at rate `rate`, n steps to `strain`; returns the history.

@@ -61,7 +61,10 @@ TEST(MaterialErrors, NameTheMaterialAndTheKey) {
   // a temperature far outside the expansion law's range (here 3000 K: a unit slip) is refused
   expect_error(t, "thermal_expansion", "beyond the thermal expansion this model is for", 3000.0);
   // an empty Prony series is no viscoelastic solid (with G_inf = 0 it had no shear stiffness)
-  expect_error(replace(replace(f, "[\"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\"]", "[]"),
+  expect_error(replace(replace(f,
+                               "[\"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", \"12.5 MPa\", "
+                               "\"12.5 MPa\", \"12.5 MPa\"]",
+                               "[]"),
                        "[1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0]", "[]"),
                "prony_shear_moduli", "at least one Prony term");
 }

@@ -71,7 +71,7 @@ TEST(MaterialExamples, HistoryNamesMatchHistorySize) {
     EXPECT_EQ(static_cast<int>(m2->history_names().size()), m2->history_size()) << name;
     EXPECT_EQ(static_cast<int>(m3->history_names().size()), m3->history_size()) << name;
   }
-  EXPECT_EQ(example<2>("tatb")->history_size(), 4);   // plastic strain + E, J, p
+  EXPECT_EQ(example<2>("tatb")->history_size(), 4);    // plastic strain + E, J, p
   EXPECT_EQ(example<2>("f2314")->history_size(), 24);  // 8 branches x (m, d, xy)
   EXPECT_EQ(example<3>("f2314")->history_size(), 48);  // 8 branches x 6
 }

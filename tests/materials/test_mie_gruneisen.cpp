@@ -119,7 +119,8 @@ TEST(MieGruneisen, PointDriverPastTheFitStopsWithTheReason) {
     mp.step(L, 1e-6);
     FAIL() << "no error; stress xx = " << mp.stress().xx;
   } catch (const pbx::InstabilityError& e) {
-    EXPECT_NE(std::string(e.what()).find("J = 0.5: compression mu = rho/rho0 - 1 = 1 beyond the limit"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("J = 0.5: compression mu = rho/rho0 - 1 = 1 beyond the limit"),
+              std::string::npos)
         << e.what();
   }
 }

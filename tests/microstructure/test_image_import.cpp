@@ -29,8 +29,10 @@ std::string make_image(const std::filesystem::path& dir, long& tatb_px, long& bi
       int phase = 2;
       for (auto& q : c) {
         const double r2 = (x + 0.5 - q[0]) * (x + 0.5 - q[0]) + (y + 0.5 - q[1]) * (y + 0.5 - q[1]);
-        if (r2 < 20 * 20) phase = 0;
-        else if (r2 < 24 * 24 && phase != 0) phase = 1;
+        if (r2 < 20 * 20)
+          phase = 0;
+        else if (r2 < 24 * 24 && phase != 0)
+          phase = 1;
       }
       std::uint8_t* p = &img.rgb[3 * (y * 200 + x)];
       if (phase == 0) p[0] = 255, p[1] = 255, p[2] = 0, ++tatb_px;

@@ -178,7 +178,8 @@ TEST(Packing, SameSeedGivesByteIdenticalFilesAndReadsBack) {
   const auto rgb = [&](int i, int j) { return &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)]; };
   const int bar_row = img.height - 20;
   int black = 0;
-  for (int i = 0; i < img.width; ++i) black += rgb(i, bar_row)[0] == 0 && rgb(i, bar_row)[1] == 0 && rgb(i, bar_row)[2] == 0;
+  for (int i = 0; i < img.width; ++i)
+    black += rgb(i, bar_row)[0] == 0 && rgb(i, bar_row)[1] == 0 && rgb(i, bar_row)[2] == 0;
   EXPECT_EQ(black, std::lround(100e-6 / px));
   EXPECT_EQ(rgb(19, bar_row)[0], 255);
   EXPECT_EQ(rgb(20, bar_row)[0], 0);
@@ -222,7 +223,8 @@ TEST(Packing, BadDecksNameTheKey) {
                 .find("packing.diameter_min: the 0.1 x 0.1 m box could need up to"),
             std::string::npos)
       << msg(replace(kDeck, "box = [\"1.0 mm\", \"1.2 mm\"]", "box = [\"10 cm\", \"10 cm\"]"));
-  EXPECT_NE(msg(replace(kDeck, "box = [\"1.0 mm\", \"1.2 mm\"]", "box = [\"1.0 mm\", inf]")).find("packing.box: entry 1 must be a finite number"),
+  EXPECT_NE(msg(replace(kDeck, "box = [\"1.0 mm\", \"1.2 mm\"]", "box = [\"1.0 mm\", inf]"))
+                .find("packing.box: entry 1 must be a finite number"),
             std::string::npos);
 }
 
@@ -248,7 +250,8 @@ TEST(Packing, EditedPackingFileIsReadStrictly) {
     return std::string("(no error)");
   };
   EXPECT_NE(read_with_x("0.01").find("grain 0 at (0.01"), std::string::npos) << read_with_x("0.01");
-  EXPECT_NE(read_with_x("0.0004abc").find("'0.0004abc' is not a finite number"), std::string::npos) << read_with_x("0.0004abc");
+  EXPECT_NE(read_with_x("0.0004abc").find("'0.0004abc' is not a finite number"), std::string::npos)
+      << read_with_x("0.0004abc");
   EXPECT_NE(read_with_x("nan").find("'nan' is not a finite number"), std::string::npos) << read_with_x("nan");
   // A grain of diameter 1e300 m passed the position check for any centre; a row pasted twice
   // stacked two cores in one place. Both are refused naming the line.
@@ -273,21 +276,23 @@ TEST(Packing, EditedPackingFileIsReadStrictly) {
   const std::string big = read_text(csv.substr(0, row) + huge + csv.substr(row_end + 1));
   EXPECT_NE(big.find(fmt::format("packing.csv:{}: grain 0 has diameter 1e+300 m", line)), std::string::npos) << big;
   const std::string dup = read_text(csv + first);
-  EXPECT_NE(dup.find("has the centre of grain 0 (line " + std::to_string(line) + "): a duplicated row?"), std::string::npos) << dup;
+  EXPECT_NE(dup.find("has the centre of grain 0 (line " + std::to_string(line) + "): a duplicated row?"),
+            std::string::npos)
+      << dup;
   EXPECT_EQ(read_text(csv), "(no error)");
   std::filesystem::remove_all(dir);
 }
 
 TEST(Packing, UnreachablePorosityStatesTheBestReached) {
-  const std::string m = error_of(replace(replace(kDeck, "porosity = 0.0932", "porosity = 0.02"), "seed = 3",
-                                         "seed = 3\nattempts = 1"));
+  const std::string m =
+      error_of(replace(replace(kDeck, "porosity = 0.0932", "porosity = 0.02"), "seed = 3", "seed = 3\nattempts = 1"));
   EXPECT_NE(m.find("cannot be reached"), std::string::npos) << m;
   EXPECT_NE(m.find("densest overlap-free packing found has porosity"), std::string::npos) << m;
 }
 
 TEST(Packing, WallsKeepGrainsInsideAndTheMassBalanceExact) {
-  const Packing p = generate_packing(spec_from(replace(replace(kDeck, "porosity = 0.0932", "porosity = 0.25"),
-                                                       "seed = 3", "seed = 3\nboundary = \"walls\"")));
+  const Packing p = generate_packing(spec_from(
+      replace(replace(kDeck, "porosity = 0.0932", "porosity = 0.25"), "seed = 3", "seed = 3\nboundary = \"walls\"")));
   EXPECT_FALSE(p.periodic);
   for (const auto& g : p.grains)
     for (int k = 0; k < 2; ++k) {

@@ -11,7 +11,8 @@ using namespace pbx;
 namespace {
 
 // KS statistic D = sup |F_n(x) - F(x)| of a sample against a CDF.
-template <class Cdf> double ks_statistic(std::vector<double> x, Cdf cdf) {
+template <class Cdf>
+double ks_statistic(std::vector<double> x, Cdf cdf) {
   std::sort(x.begin(), x.end());
   const double n = static_cast<double>(x.size());
   double d = 0;
@@ -22,7 +23,9 @@ template <class Cdf> double ks_statistic(std::vector<double> x, Cdf cdf) {
   return d;
 }
 // Asymptotic critical value at level alpha: sqrt(-ln(alpha/2) / 2) / sqrt(n) (1.628/sqrt(n) at 1 %).
-double ks_critical(double alpha, std::size_t n) { return std::sqrt(-0.5 * std::log(0.5 * alpha)) / std::sqrt(double(n)); }
+double ks_critical(double alpha, std::size_t n) {
+  return std::sqrt(-0.5 * std::log(0.5 * alpha)) / std::sqrt(double(n));
+}
 
 SizeDistribution paper_like(bool by_area) {
   SizeDistribution s;
@@ -36,7 +39,7 @@ SizeDistribution paper_like(bool by_area) {
 
 }  // namespace
 
-TEST(SizeDistribution, KsCriticalValueMatchesTable) { EXPECT_NEAR(ks_critical(0.01, 1) , 1.6276, 1e-4); }
+TEST(SizeDistribution, KsCriticalValueMatchesTable) { EXPECT_NEAR(ks_critical(0.01, 1), 1.6276, 1e-4); }
 
 TEST(SizeDistribution, TruncatedMomentsMatchQuadrature) {
   const auto s = paper_like(true);

@@ -12,9 +12,9 @@ constexpr double pi = std::numbers::pi;
 TEST(UnionArea, DiskInsideHalfDiskAndQuarterDisk) {
   const Eigen::Vector2d box(10, 8);
   EXPECT_NEAR(union_area_in_box({{{5, 4}, 2}}, box), pi * 4, 1e-12);
-  EXPECT_NEAR(union_area_in_box({{{0, 4}, 2}}, box), pi * 2, 1e-12);   // cut by the left edge
-  EXPECT_NEAR(union_area_in_box({{{10, 8}, 2}}, box), pi, 1e-12);      // top-right corner
-  EXPECT_NEAR(union_area_in_box({{{5, 4}, 100}}, box), 80, 1e-9);      // covers the box
+  EXPECT_NEAR(union_area_in_box({{{0, 4}, 2}}, box), pi * 2, 1e-12);  // cut by the left edge
+  EXPECT_NEAR(union_area_in_box({{{10, 8}, 2}}, box), pi, 1e-12);     // top-right corner
+  EXPECT_NEAR(union_area_in_box({{{5, 4}, 100}}, box), 80, 1e-9);     // covers the box
 }
 
 TEST(UnionArea, TwoOverlappingDisksLoseTheLens) {

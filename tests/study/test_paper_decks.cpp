@@ -101,7 +101,8 @@ void build_every_run(const std::string& deck) {
       d.check_unused();
       // every run carries a value of its group's key (the key the study varies), and it is checked
       EXPECT_GE(check_run_values(scene, d, r, deck + " run " + r.id), 1) << deck << " run " << r.id;
-    }) << deck << " run " << r.id;
+    }) << deck
+       << " run " << r.id;
   }
 }
 // The overrides of a run without those that set resolution and output only.
@@ -185,7 +186,9 @@ TEST(PaperDecks, QuickRunsThreeSeedsPerDensityAndOnePerTemperature) {
   EXPECT_EQ(density, 9);
   for (const long seed : {1L, 2L, 3L})
     EXPECT_EQ(std::count_if(quick.runs.begin(), quick.runs.end(),
-                            [&](const StudyRunSpec& r) { return r.group == "density" && r.seed == seed; }), 3) << seed;
+                            [&](const StudyRunSpec& r) { return r.group == "density" && r.seed == seed; }),
+              3)
+        << seed;
 }
 
 TEST(PaperDecks, FineAndFullDifferFromQuickOnlyInResolution) {

@@ -1,5 +1,6 @@
 // A study run under `mpirun -n 2` gives the same results as the sequential run (each rank runs
-// whole runs; the engine is deterministic: histories, analyses and study fits alike), resumes by skipping finished runs, and names bad keys.
+// whole runs; the engine is deterministic: histories, analyses and study fits alike), resumes by skipping finished
+// runs, and names bad keys.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -36,9 +37,8 @@ std::string slurp(const fs::path& p) {
 fs::path make_study(const std::string& extra = "", const std::string& values = "[10, 20]") {
   // pid and test name, emptied first: /tmp outlives a run, and a later run with the same pid found
   // "finished" runs of an earlier one
-  const fs::path dir = fs::temp_directory_path() /
-                       ("pbxmpm_study_" + std::to_string(::getpid()) + "_" +
-                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_study_" + std::to_string(::getpid()) + "_" +
+                                                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::string base = slurp(fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml");
@@ -51,9 +51,11 @@ fs::path make_study(const std::string& extra = "", const std::string& values = "
   set("snapshots = 5", "snapshots = 0");
   set("cell_size = \"20 um\"", "cell_size = \"50 um\"");
   std::ofstream(dir / "base.toml") << base;
-  std::ofstream(dir / "study.toml") << "[study]\nname = \"mpi-check\"\nbase = \"base.toml\"\n" << extra
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"mpi-check\"\nbase = \"base.toml\"\n"
+                                    << extra
                                     << "[[study.group]]\nname = \"scaling\"\nkey = \"solver.mass_scaling\"\n"
-                                       "values = " << values << "\n";
+                                       "values = "
+                                    << values << "\n";
   return dir;
 }
 
@@ -123,9 +125,9 @@ TEST(Study, MpiTwoRanksEqualsSequentialAndResumes) {
   GTEST_SKIP() << "built without MPI (-DPBXMPM_WITH_MPI=OFF)";
 #endif
   if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
-  const std::string cmd = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -n 2 " + std::string(PBXMPM_BINARY) +
-                          " study " + (dir / "study.toml").string() + " --out " + (dir / "mpi").string() +
-                          " --quiet --no-report > " + (dir / "mpi.log").string() + " 2>&1";
+  const std::string cmd = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -n 2 " +
+                          std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() + " --out " +
+                          (dir / "mpi").string() + " --quiet --no-report > " + (dir / "mpi.log").string() + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "mpi.log");
   for (const auto& r : s.runs) {
     EXPECT_EQ(slurp(dir / "seq" / "runs" / r.id / "history.csv"), slurp(dir / "mpi" / "runs" / r.id / "history.csv"))
@@ -221,14 +223,16 @@ TEST(Study, SpecimenReadFromAPackingGetsNoSeed) {
   ASSERT_NE(own_seed, std::string::npos);
   base.erase(own_seed, 9);
   std::ofstream(dir / "base.toml") << base;
-  std::ofstream(dir / "study.toml") << "[study]\nname = \"packdir\"\nbase = \"base.toml\"\n"
-                                       "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n";
+  std::ofstream(dir / "study.toml")
+      << "[study]\nname = \"packdir\"\nbase = \"base.toml\"\n"
+         "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n";
   const StudySpec s = read_study((dir / "study.toml").string());
   const toml::table deck = toml::parse(run_deck_text(s, s.runs[0]));
   EXPECT_FALSE(deck["specimen"]["seed"]) << run_deck_text(s, s.runs[0]);
   EXPECT_EQ(deck["specimen"]["packing_dir"].value<std::string>(), "packing");
-  std::ofstream(dir / "study.toml") << "[study]\nname = \"packdir\"\nbase = \"base.toml\"\nseeds = [1, 2]\n"
-                                       "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n";
+  std::ofstream(dir / "study.toml")
+      << "[study]\nname = \"packdir\"\nbase = \"base.toml\"\nseeds = [1, 2]\n"
+         "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n";
   std::string msg = "(no error)";
   try {
     read_study((dir / "study.toml").string());
@@ -380,8 +384,9 @@ TEST(Study, ResumedStudyUnderMpiKeepsBothRanksBusy) {
   GTEST_SKIP() << "built without MPI (-DPBXMPM_WITH_MPI=OFF)";
 #endif
   if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
-  const std::string mpi = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -n 2 " + std::string(PBXMPM_BINARY) +
-                          " study " + (dir / "study.toml").string() + " --out " + (dir / "out").string() + " --quiet --no-report";
+  const std::string mpi = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -n 2 " +
+                          std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() + " --out " +
+                          (dir / "out").string() + " --quiet --no-report";
   ASSERT_NE(std::system((mpi + " --only scaling-99-s1 > " + (dir / "bad.log").string() + " 2>&1").c_str()), 0);
   EXPECT_NE(slurp(dir / "bad.log").find("'scaling-99-s1'"), std::string::npos) << slurp(dir / "bad.log");
   ASSERT_EQ(std::system((mpi + " > " + (dir / "mpi.log").string() + " 2>&1").c_str()), 0) << slurp(dir / "mpi.log");
@@ -458,8 +463,9 @@ TEST(Study, InterruptedRunContinuesFromItsCheckpoint) {
 // the line that starts a run says how many of the study's runs have finished.
 TEST(Study, ProgressLinesNameTheRunAndTheStudyEta) {
   const fs::path dir = make_study();
-  const std::string cmd = "OMP_NUM_THREADS=1 " + std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() +
-                          " --out " + (dir / "out").string() + " --no-report > " + (dir / "log").string() + " 2>&1";
+  const std::string cmd = "OMP_NUM_THREADS=1 " + std::string(PBXMPM_BINARY) + " study " +
+                          (dir / "study.toml").string() + " --out " + (dir / "out").string() + " --no-report > " +
+                          (dir / "log").string() + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "log");
   const std::string log = slurp(dir / "log");
   EXPECT_NE(log.find("(run 1/2, 2 runs in the study, study ETA "), std::string::npos) << log;
@@ -496,7 +502,7 @@ TEST(Study, StatusSaysWhereEachRunStands) {
   ASSERT_EQ(st.size(), 3u);
   EXPECT_EQ(st[0].state, "finished");
   EXPECT_NEAR(st[0].strain, st[0].end_strain, 1e-4);  // the run reached its end strain
-  EXPECT_EQ(st[1].state, "failed");                    // the exception marked it so
+  EXPECT_EQ(st[1].state, "failed");                   // the exception marked it so
   EXPECT_GT(st[1].strain, 0);
   EXPECT_LT(st[1].strain, 0.5 * st[0].strain);
   EXPECT_GT(st[1].checkpoint_step, 0);
@@ -506,7 +512,8 @@ TEST(Study, StatusSaysWhereEachRunStands) {
   EXPECT_NE(table.find("1 of 3 runs finished"), std::string::npos) << table;
   EXPECT_NE(table.find("--only " + s.runs[1].id + "," + s.runs[2].id), std::string::npos) << table;
   // the command to continue names the study deck itself (study.json records it), not a placeholder
-  EXPECT_NE(table.find("pbxmpm study " + fs::absolute(dir / "study.toml").string() + " --out"), std::string::npos) << table;
+  EXPECT_NE(table.find("pbxmpm study " + fs::absolute(dir / "study.toml").string() + " --out"), std::string::npos)
+      << table;
   EXPECT_THROW(study_status((dir / "nothing").string()), InputError);
   // a run.json still "running": alive if its process (here: this test) is, interrupted if not
   const fs::path rj = dir / "out" / "runs" / s.runs[1].id / "run.json";
@@ -576,18 +583,20 @@ TEST(Study, RelativePackingDirResolvesBesideTheBaseDeck) {
     p.grains.push_back(g);
   }
   write_packing(p, (dir / "decks" / "packing").string());
-  std::ofstream(dir / "study.toml") << "[study]\nname = \"relpack\"\nbase = \"decks/base.toml\"\n"
-                                       "[study.set]\n\"grid.cell_size\" = \"20 um\"\n\"run.end_strain\" = 0.01\n"
-                                       "\"run.history_points\" = 100\n\"run.snapshots\" = 0\n"
-                                       "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n"
-                                       "[analysis]\nlinear_window = [0.0042, 0.0095]\nstrength_max_strain = 0.01\n";
+  std::ofstream(dir / "study.toml")
+      << "[study]\nname = \"relpack\"\nbase = \"decks/base.toml\"\n"
+         "[study.set]\n\"grid.cell_size\" = \"20 um\"\n\"run.end_strain\" = 0.01\n"
+         "\"run.history_points\" = 100\n\"run.snapshots\" = 0\n"
+         "[[study.group]]\nname = \"t\"\nkey = \"run.temperature\"\nvalues = [\"293 K\"]\n"
+         "[analysis]\nlinear_window = [0.0042, 0.0095]\nstrength_max_strain = 0.01\n";
   const StudySpec s = read_study((dir / "study.toml").string());
   StudyOptions o;
   o.out_dir = (dir / "out").string();
   o.report = false;
   o.progress = false;
   ASSERT_EQ(run_study(s, o), 0);  // started from the test's folder, not the base deck's
-  EXPECT_NE(slurp(dir / "out" / "runs" / s.runs[0].id / "run.json").find("\"status\": \"finished\""), std::string::npos);
+  EXPECT_NE(slurp(dir / "out" / "runs" / s.runs[0].id / "run.json").find("\"status\": \"finished\""),
+            std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -598,13 +607,15 @@ TEST(Study, SeedsThatWouldNotReachTheRunAreRefused) {
   const fs::path dir = make_study();  // the demo deck: no [specimen]
   std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
                                        "[[study.group]]\nname = \"seed\"\nkey = \"specimen.seed\"\nvalues = [5, 6]\n";
-  EXPECT_NE(error_of(dir).find("study.group[0].key: group 'seed' gives the specimen's seed, but the base deck has no [specimen]"),
+  EXPECT_NE(error_of(dir).find(
+                "study.group[0].key: group 'seed' gives the specimen's seed, but the base deck has no [specimen]"),
             std::string::npos)
       << error_of(dir);
   fs::copy_file(fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "base.toml", dir / "base.toml",
                 fs::copy_options::overwrite_existing);
-  std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
-                                       "[[study.group]]\nname = \"seed\"\nkey = \"packing.seed\"\nvalues = [1.5, 2.5]\n";
+  std::ofstream(dir / "study.toml")
+      << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"
+         "[[study.group]]\nname = \"seed\"\nkey = \"packing.seed\"\nvalues = [1.5, 2.5]\n";
   EXPECT_NE(error_of(dir).find("study.group[0].values: seed '1.5' is not a non-negative integer"), std::string::npos)
       << error_of(dir);
   std::ofstream(dir / "study.toml") << "[study]\nname = \"seeds\"\nbase = \"base.toml\"\n"

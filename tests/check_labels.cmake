@@ -1,0 +1,15 @@
+# Every test named in labels.cmake exists, so that no slow test loses its label silently
+# (CTest ignores set_tests_properties on a name it does not know).
+function(set_tests_properties)
+endfunction()  # only the list is wanted from labels.cmake here
+include(${LIST})
+list(LENGTH PBXMPM_LABELLED_TESTS n)
+math(EXPR last "${n} - 1")
+foreach(i RANGE 1 ${last} 3)
+  list(GET PBXMPM_LABELLED_TESTS ${i} test)
+  string(REPLACE "." "\\." re "${test}")
+  execute_process(COMMAND ${CMAKE_CTEST_COMMAND} --test-dir ${BUILD} -N -R "^${re}$" OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "Total Tests: 1\n")
+    message(FATAL_ERROR "tests/labels.cmake names '${test}', which is not a test (renamed or removed?)")
+  endif()
+endforeach()
