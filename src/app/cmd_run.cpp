@@ -41,11 +41,54 @@ Deck deck_from_file_with(const std::string& file, const std::vector<std::string>
                            std::filesystem::path(file).parent_path().string());
 }
 
-Scene<2> load(const std::string& file, const std::vector<std::string>& set, Deck& deck) {
-  deck = set.empty() ? Deck::from_file(file) : deck_from_file_with(file, set);
-  Scene<2> scene = build_scene<2>(deck);
+template <int D>
+void check_deck(const std::string& file, Deck& deck) {
+  Scene<D> scene = build_scene<D>(deck);
   deck.check_unused();
-  return scene;
+  auto count = [](std::size_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+  };
+  std::string nodes = std::to_string(scene.grid.n[0]);
+  for (int d = 1; d < D; ++d) nodes += " x " + std::to_string(scene.grid.n[d]);
+  std::printf("%s: valid %d-D deck. %s in %s, %s, %s, grid %s nodes (h = %.4g m), end time %.4g s\n", file.c_str(), D,
+              count(scene.particles.size(), "particle", "particles").c_str(),
+              count(scene.materials.size(), "material", "materials").c_str(),
+              count(static_cast<std::size_t>(scene.deformable_fields), "deformable field", "deformable fields").c_str(),
+              count(scene.bodies.size(), "rigid body", "rigid bodies").c_str(), nodes.c_str(), scene.grid.h,
+              scene.control.end_time);
+}
+
+template <int D>
+void run_deck(Deck& deck, const RunArgs& args, const std::string& deck_name, const CheckpointData& ck) {
+  Scene<D> scene = build_scene<D>(deck);
+  deck.check_unused();
+  RunOptions opt;
+  opt.out_dir = args.out;
+  opt.threads = args.threads;
+  opt.progress = !args.quiet;
+  opt.deck = json_parse(deck.to_json(), "the deck as JSON");
+  opt.deck_text = deck.text();
+  opt.deck_name = deck_name;
+  opt.checkpoint_every = args.checkpoint_every;
+  opt.checkpoint_wall_s = 60.0 * args.checkpoint_minutes;
+  Runner<D> runner(scene, opt, !args.restart.empty());
+  if (!args.restart.empty()) runner.resume(ck);
+  // deformable velocity fields and rigid bodies told apart (the grid holds one field per body too)
+  const int bodies = static_cast<int>(scene.bodies.size());
+  fmt::print(stderr,
+             "pbxmpm: {}{}: {} particles, {} x {}{} nodes ({}-D), {} deformable field{}{}, end time {:.4g} s -> {}\n",
+             args.restart.empty() ? "" : "restart of ", deck_name, scene.particles.size(), scene.grid.n[0],
+             scene.grid.n[1], D == 3 ? fmt::format(" x {}", scene.grid.n[D - 1]) : std::string(), D,
+             scene.deformable_fields, scene.deformable_fields == 1 ? "" : "s",
+             bodies == 0 ? std::string() : fmt::format(" and {} rigid bod{}", bodies, bodies == 1 ? "y" : "ies"),
+             scene.control.end_time, args.out);
+  const auto t0 = std::chrono::steady_clock::now();
+  runner.run();
+  // one closing line: what happened, how long, where the results are
+  std::fprintf(stderr, "pbxmpm: finished: %ld steps in %.1f s; results in %s (history.csv, run.json%s)\n",
+               runner.solver().step_count(),
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), args.out.c_str(),
+               scene.control.snapshots > 0 ? ", snapshots/snapshots.xmf" : "");
 }
 
 }  // namespace
@@ -114,33 +157,10 @@ void register_run(CLI::App& app) {
     } else {
       deck = deck_from_file_with(args->deck, args->set);
     }
-    Scene<2> scene = build_scene<2>(deck);
-    deck.check_unused();
-    RunOptions opt;
-    opt.out_dir = args->out;
-    opt.threads = args->threads;
-    opt.progress = !args->quiet;
-    opt.deck = json_parse(deck.to_json(), "the deck as JSON");
-    opt.deck_text = deck.text();
-    opt.deck_name = deck_name;
-    opt.checkpoint_every = args->checkpoint_every;
-    opt.checkpoint_wall_s = 60.0 * args->checkpoint_minutes;
-    Runner<2> runner(scene, opt, !args->restart.empty());
-    if (!args->restart.empty()) runner.resume(ck);
-    // deformable velocity fields and rigid bodies told apart (the grid holds one field per body too)
-    const int bodies = static_cast<int>(scene.bodies.size());
-    fmt::print(stderr, "pbxmpm: {}{}: {} particles, {} x {} nodes, {} deformable field{}{}, end time {:.4g} s -> {}\n",
-               args->restart.empty() ? "" : "restart of ", deck_name, scene.particles.size(), scene.grid.n[0],
-               scene.grid.n[1], scene.deformable_fields, scene.deformable_fields == 1 ? "" : "s",
-               bodies == 0 ? std::string() : fmt::format(" and {} rigid bod{}", bodies, bodies == 1 ? "y" : "ies"),
-               scene.control.end_time, args->out);
-    const auto t0 = std::chrono::steady_clock::now();
-    runner.run();
-    // one closing line: what happened, how long, where the results are
-    std::fprintf(stderr, "pbxmpm: finished: %ld steps in %.1f s; results in %s (history.csv, run.json%s)\n",
-                 runner.solver().step_count(),
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), args->out.c_str(),
-                 scene.control.snapshots > 0 ? ", snapshots/snapshots.xmf" : "");
+    if (deck_dimension(deck) == 3)
+      run_deck<3>(deck, *args, deck_name, ck);
+    else
+      run_deck<2>(deck, *args, deck_name, ck);
   });
 
   auto check_file = std::make_shared<std::string>();
@@ -161,18 +181,11 @@ void register_run(CLI::App& app) {
                   s.name.c_str(), n, s.base_deck.c_str());
       return;
     }
-    Deck deck = Deck::from_string("", "");
-    Scene<2> scene = load(*check_file, *check_set, deck);
-    auto count = [](std::size_t n, const char* one, const char* many) {
-      return fmt::format("{} {}", n, n == 1 ? one : many);
-    };
-    std::printf(
-        "%s: valid. %s in %s, %s, %s, grid %ld x %ld nodes (h = %.4g m), end time %.4g s\n", check_file->c_str(),
-        count(scene.particles.size(), "particle", "particles").c_str(),
-        count(scene.materials.size(), "material", "materials").c_str(),
-        count(static_cast<std::size_t>(scene.deformable_fields), "deformable field", "deformable fields").c_str(),
-        count(scene.bodies.size(), "rigid body", "rigid bodies").c_str(), scene.grid.n[0], scene.grid.n[1],
-        scene.grid.h, scene.control.end_time);
+    Deck deck = check_set->empty() ? Deck::from_file(*check_file) : deck_from_file_with(*check_file, *check_set);
+    if (deck_dimension(deck) == 3)
+      check_deck<3>(*check_file, deck);
+    else
+      check_deck<2>(*check_file, deck);
   });
 }
 

@@ -105,37 +105,39 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   if (!threads_.note.empty()) std::fprintf(stderr, "pbxmpm: note: %s\n", threads_.note.c_str());
   tty_ = isatty(STDERR_FILENO);
   const char* axes = "xyz";
+  // 2-D forces, energies, masses and momenta are per metre of depth (plane strain); 3-D ones are totals
+  const std::string per = D == 2 ? "_per_m" : "";
   columns_ = {"step",
               "t_s",
               "dt_s",
               "strain",
               "punch_velocity_m_s",
-              "punch_force_N_per_m",
+              "punch_force_N" + per,
               "punch_stress_Pa",
-              "wall_left_force_N_per_m",
-              "wall_right_force_N_per_m",
-              "wall_bottom_force_N_per_m",
+              "wall_left_force_N" + per,
+              "wall_right_force_N" + per,
+              "wall_bottom_force_N" + per,
               "wall_stress_Pa",
               "sxx_Pa",
               "syy_Pa",
               "szz_Pa",
               "sxy_Pa",
-              "kinetic_J_per_m",
-              "internal_J_per_m",
-              "dissipated_J_per_m",
-              "punch_work_J_per_m",
+              "kinetic_J" + per,
+              "internal_J" + per,
+              "dissipated_J" + per,
+              "punch_work_J" + per,
               "ke_ie",
-              "mass_kg_per_m"};
-  for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("momentum_{}_N_s_per_m", axes[d]));
+              "mass_kg" + per};
+  for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("momentum_{}_N_s{}", axes[d], per));
   for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("com_v{}_m_s", axes[d]));
   for (auto& b : sc_.bodies)
-    for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("{}_f{}_N_per_m", b.name, axes[d]));
+    for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("{}_f{}_N{}", b.name, axes[d], per));
   if (!sc_.contact.all_weld()) contact_pairs_ = contact_material_pairs(sc_.contact, sc_.material_names);
   for (auto& mp : contact_pairs_) {
-    columns_.push_back(fmt::format("contact_{}_fn_N_per_m", mp.name));
-    columns_.push_back(fmt::format("contact_{}_ft_N_per_m", mp.name));
+    columns_.push_back(fmt::format("contact_{}_fn_N{}", mp.name, per));
+    columns_.push_back(fmt::format("contact_{}_ft_N{}", mp.name, per));
     if (mp.first != mp.second)
-      for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("contact_{}_f{}_N_per_m", mp.name, axes[d]));
+      for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("contact_{}_f{}_N{}", mp.name, axes[d], per));
   }
   if constexpr (D == 2) {
     if (sc_.deformable_fields > 1 && sc_.particles.size() > 0) {
@@ -143,7 +145,7 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
       columns_.push_back("field_overlap_m2_per_m");
     }
   }
-  if (sc_.contact.has_layers()) columns_.push_back("layer_energy_J_per_m");
+  if (sc_.contact.has_layers()) columns_.push_back("layer_energy_J" + per);
   if (!opt_.out_dir.empty()) {
     lock_ = OutputLock(opt_.out_dir, "run");
     if (!restart) {
@@ -438,7 +440,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   j["specimen"] = specimen;
   j["study"] = opt_.study;
   j["materials"] = mats;
-  j["units"] = "SI; 2-D quantities are per metre of depth";
+  j["units"] = D == 2 ? "SI; 2-D (plane strain): forces, energies, masses and momenta per metre of depth" : "SI; 3-D";
   j["deck"] = opt_.deck;
   json_write_file((std::filesystem::path(opt_.out_dir) / "run.json").string(), j);
 }
@@ -471,21 +473,29 @@ void Runner<D>::report_progress(const Measurement& m, bool final) {
                                 ? std::string()
                                 : fmt::format("  ({}, study ETA {})", opt_.progress_label,
                                               hms(study_eta_s(wall, frac, frac_at_start_, opt_.runs_after)));
+  // the punch's strain and stress with a die; the time otherwise (no punch to report)
+  const std::string load = sc_.die
+                               ? fmt::format("strain {:6.3f}%  punch {:8.3f} MPa", 100 * m.strain, m.punch_stress / 1e6)
+                               : fmt::format("t {:.4g} s  KE/IE {:.3g}", m.t, m.ke_ie);
   if (tty_) {
     const int width = 30, fill = static_cast<int>(frac * width);
-    std::fprintf(stderr, "\r[%s%s] %5.1f%%  strain %6.3f%%  punch %8.3f MPa  %7.0f steps/s  ETA %s%s%s",
+    std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s  %7.0f steps/s  ETA %s%s%s",
                  std::string(static_cast<std::size_t>(fill), '#').c_str(),
-                 std::string(static_cast<std::size_t>(width - fill), ' ').c_str(), 100 * frac, 100 * m.strain,
-                 m.punch_stress / 1e6, rate, hms(eta).c_str(), study.c_str(), final ? "\n" : "");
+                 std::string(static_cast<std::size_t>(width - fill), ' ').c_str(), 100 * frac, load.c_str(), rate,
+                 hms(eta).c_str(), study.c_str(), final ? "\n" : "");
     std::fflush(stderr);
   } else if (final || frac - last_progress_ >= 0.1 || wall - last_progress_wall_ >= 60.0) {
     // every 10 % or every minute, whichever comes first: a multi-hour run in a log file (no
     // terminal) must still show it is alive
     last_progress_ = frac;
     last_progress_wall_ = wall;
-    std::fprintf(stderr,
-                 "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s%s\n",
-                 100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str(), study.c_str());
+    if (sc_.die)
+      std::fprintf(
+          stderr, "pbxmpm: %5.1f%%  t %.4g s  strain %.4f%%  punch %.4g MPa  KE/IE %.3g  %.0f steps/s  ETA %s%s\n",
+          100 * frac, m.t, 100 * m.strain, m.punch_stress / 1e6, m.ke_ie, rate, hms(eta).c_str(), study.c_str());
+    else
+      std::fprintf(stderr, "pbxmpm: %5.1f%%  t %.4g s  KE/IE %.3g  %.0f steps/s  ETA %s%s\n", 100 * frac, m.t, m.ke_ie,
+                   rate, hms(eta).c_str(), study.c_str());
   }
 }
 

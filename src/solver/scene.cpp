@@ -139,6 +139,12 @@ void seed_subcells(const Grid<D>& g, int ppc, const Vec<D>& lo, const Vec<D>& hi
 
 }  // namespace
 
+int deck_dimension(const Deck& deck) {
+  const DeckTable root = deck.root();
+  if (!root.has("run")) return 2;  // build_scene names the missing table
+  return int_in(root.table("run"), "dimension", 2, 3, 2);
+}
+
 template <int D>
 Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   Scene<D> sc;
@@ -146,6 +152,8 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
 
   // ---- run control
   const DeckTable run = root.table("run");
+  if (const int dim = int_in(run, "dimension", 2, 3, 2); dim != D)
+    run.fail("dimension", fmt::format("{}: this deck is built as a {}-D scene here", dim, D));
   sc.description = run.string("title", "");
   sc.control.temperature = run.positive("temperature", dim::temperature, 293.0);
   sc.control.history_points = int_in(run, "history_points", 2, 10'000'000, 400);

@@ -85,6 +85,10 @@ struct Scene {
 // is printed once per run.
 enum class SceneNotes { print, quiet };
 
+// The deck's run.dimension: 2 (plane strain, the default) or 3. A caller builds build_scene<D>
+// with it; build_scene<D> refuses a deck of the other dimension.
+int deck_dimension(const Deck& deck);
+
 // Builds a scene from a deck; every key is validated (unknown keys are errors).
 template <int D>
 Scene<D> build_scene(const Deck& deck, SceneNotes notes = SceneNotes::print);

@@ -126,6 +126,16 @@ bool seeds_its_specimen(const toml::table& deck) {
   return spec && !spec->contains("packing_dir");
 }
 
+// A study's runs are 2-D: its analysis reads die runs, and the die and packed specimens are 2-D.
+Scene<2> build_study_scene(const Deck& deck, SceneNotes notes = SceneNotes::print) {
+  if (deck_dimension(deck) != 2)
+    throw InputError(
+        fmt::format("{}: run.dimension = {}: a study runs 2-D decks (the die and the packed specimen "
+                    "are 2-D); run a 3-D deck with pbxmpm run",
+                    deck.name(), deck_dimension(deck)));
+  return build_scene<2>(deck, notes);
+}
+
 bool finished(const fs::path& dir) {
   if (!fs::exists(dir / "run.json")) return false;
   try {
@@ -379,7 +389,7 @@ int check_study(const StudySpec& s) {
   for (const auto& r : s.runs) {
     const std::string text = run_deck_text(s, r);
     Deck deck = run_deck(s, text, fs::path("runs") / r.id / "deck.toml");
-    Scene<2> scene = build_scene<2>(deck);
+    Scene<2> scene = build_study_scene(deck);
     deck.check_unused();
   }
   return static_cast<int>(s.runs.size());
@@ -462,7 +472,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     try {
       const std::string text = run_deck_text(s, r);
       Deck deck = run_deck(s, text, out / "runs" / r.id / "deck.toml");
-      Scene<2> scene = build_scene<2>(deck, SceneNotes::quiet);  // the run prints them when it starts
+      Scene<2> scene = build_study_scene(deck, SceneNotes::quiet);  // the run prints them when it starts
       deck.check_unused();
       // an interrupted run continues from its checkpoint only if the study still gives its deck;
       // one whose header cannot be read is set aside when the run starts (below), not an error
@@ -531,7 +541,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       const std::string text = run_deck_text(s, r);
       write_text_atomically(dir / "deck.toml", text);
       Deck deck = run_deck(s, text, dir / "deck.toml");
-      Scene<2> scene = build_scene<2>(deck);
+      Scene<2> scene = build_study_scene(deck);
       deck.check_unused();
       const fs::path ckpt = dir / "checkpoint.h5";
       const bool restart = fs::exists(ckpt);  // its deck was checked above
@@ -584,7 +594,7 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       if (!resumed) {
         if (restart) {  // the failed resume may have changed the scene: build it again
           Deck again = run_deck(s, text, dir / "deck.toml");
-          scene = build_scene<2>(again);
+          scene = build_study_scene(again);
         }
         Runner<2> runner(scene, ro);
         runner.run();

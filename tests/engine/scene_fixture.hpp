@@ -1,5 +1,5 @@
 #pragma once
-// Builds a 2-D scene from deck text for engine tests.
+// Builds a scene from deck text for engine tests (2-D unless the deck says run.dimension = 3).
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -9,9 +9,10 @@
 
 namespace pbx::test {
 
-inline Scene<2> scene_from(const std::string& text) {
+template <int D = 2>
+inline Scene<D> scene_from(const std::string& text) {
   Deck deck = Deck::from_string(text, "test.toml");
-  Scene<2> sc = build_scene<2>(deck);
+  Scene<D> sc = build_scene<D>(deck);
   deck.check_unused();
   return sc;
 }
