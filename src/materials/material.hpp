@@ -4,6 +4,7 @@
 // per particle. History variables live in the material's own storage (MaterialState::history),
 // `history_size()` doubles per particle, addressed by the particle's slot in the batch.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -72,7 +73,18 @@ inline double stress_work(const Sym3& s0, const Sym3& s1, const Sym3& Ddt, doubl
 template <int D>
 std::unique_ptr<Material<D>> make_material(const DeckTable& t, const MaterialContext& ctx);
 
-// Names of every registered model (for error messages and docs).
+// Names of every registered model, built in or registered (for error messages and docs).
 std::vector<std::string> material_models();
+
+// A model's factory: reads the model's keys from its deck table (refusing any it does not take,
+// DeckTable::fail naming the key) and builds the law for the run's conditions.
+template <int D>
+using MaterialFactory = std::function<std::unique_ptr<Material<D>>(const DeckTable&, const MaterialContext&)>;
+
+// Adds a model under `name` (lower-case letters, digits, '_'), for both the built-in ones' route
+// and a program's own laws (docs/extending.md): one call, before the decks that use it are read.
+// A name already taken is an InputError.
+template <int D>
+void register_material(const std::string& name, MaterialFactory<D> factory);
 
 }  // namespace pbx

@@ -1,6 +1,6 @@
-// Deck reading for composed materials: the keys common to every composition, the strict check of
-// unknown keys (so the point driver, which reads only one table of a run deck, still rejects
-// typos), and the explicit instantiations of every registered composition.
+// Deck reading common to every composed material: its keys and its thermal setup. The strict check
+// of unknown keys (so the point driver, which reads only one table of a run deck, still rejects
+// typos) is make_solid's, in models.hpp.
 #include "materials/solid.hpp"
 
 #include <algorithm>
@@ -47,32 +47,5 @@ SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx) {
   s.density = rho_ref * std::exp(-strain_v);
   return s;
 }
-
-template <int D, class Dev, class Eos>
-std::unique_ptr<Material<D>> make_solid(const DeckTable& t, const MaterialContext& ctx) {
-  auto allowed = solid_common_keys();
-  for (auto& k : Dev::keys()) allowed.push_back(k);
-  for (auto& k : Eos::keys()) allowed.push_back(k);
-  for (const auto& k : t.keys())
-    if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
-      t.fail(k, fmt::format("unknown key for model '{}' (known: {})", Solid<D, Dev, Eos>::model_name(),
-                            fmt::join(allowed, ", ")));
-  const SolidSetup s = read_solid_setup(t, ctx);
-  return std::make_unique<Solid<D, Dev, Eos>>(s, Dev::from_deck(t, s), Eos::from_deck(t, s));
-}
-
-#define PBX_SOLID(DEV, EOS)                                                                                \
-  template std::unique_ptr<Material<2>> make_solid<2, DEV, EOS>(const DeckTable&, const MaterialContext&); \
-  template std::unique_ptr<Material<3>> make_solid<3, DEV, EOS>(const DeckTable&, const MaterialContext&);
-PBX_SOLID(ElasticDeviator, LinearBulkEos)
-PBX_SOLID(ElasticDeviator, MieGruneisenEos)
-PBX_SOLID(ElasticDeviator, TaitEos)
-PBX_SOLID(J2Deviator, LinearBulkEos)
-PBX_SOLID(J2Deviator, MieGruneisenEos)
-PBX_SOLID(J2Deviator, TaitEos)
-PBX_SOLID(PronyDeviator, LinearBulkEos)
-PBX_SOLID(PronyDeviator, MieGruneisenEos)
-PBX_SOLID(PronyDeviator, TaitEos)
-#undef PBX_SOLID
 
 }  // namespace pbx
