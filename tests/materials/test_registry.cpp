@@ -1,8 +1,8 @@
 // The material registry: every deviator x EOS pair of models.hpp's lists is a model, and a law of
 // one's own is one class plus one register_material() call (docs/extending.md). The toy law here
 // is a pure bulk response in rate form, s' = K tr(D) I, whose uniaxial-strain stress has the closed
-// form sigma_xx = sigma_yy = sigma_zz = K ln(F_xx) (the driver's strain, logarithmic); a registry that built another law under its
-// name, or passed it other conditions, would not give it.
+// form sigma_xx = sigma_yy = sigma_zz = K ln(F_xx) (the driver's strain, logarithmic); a registry that built another
+// law under its name, or passed it other conditions, would not give it.
 #include <cmath>
 #include <memory>
 
