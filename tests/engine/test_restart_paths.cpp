@@ -1,12 +1,12 @@
 // Restart bit-identity beyond the default path (issue 29: "restart of plastic, viscoelastic and EOS
 // history variables, of other integrators, of contact runs and of snapshot series"): a two-grain
 // die specimen with the paper's laws (TATB J2 + Mie-Grueneisen with a low yield stress so that it
-// flows, F2314 Prony + Tait), Coulomb contact between the fields, a binder-layer spring between the
-// grains, wall friction and a snapshot series. For each integrator (USF, USL, MUSL) and a FLIP/PIC
-// blend of 0.5, a run resumed from its mid-run checkpoint must write the uninterrupted run's
-// history.csv byte for byte and the same snapshot series (times and particle counts in the XDMF
-// sidecar). Independent expected value: the uninterrupted run itself; a state the checkpoint
-// forgot (a history variable, the layer law's bonds, the FLIP velocities) changes some digit.
+// flows, F2314 Prony + Tait), contact between the fields (USL: Coulomb, a binder-layer spring between
+// the grains and wall friction; USF and MUSL: frictionless) and a snapshot series. For each integrator (USF, USL, MUSL)
+// and a FLIP/PIC blend of 0.5, a run resumed from its mid-run checkpoint must write the uninterrupted run's history.csv
+// byte for byte and the same snapshot series (times and particle counts in the XDMF sidecar). Independent expected
+// value: the uninterrupted run itself; a state the checkpoint forgot (a history variable, the layer law's bonds, the
+// FLIP velocities) changes some digit.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -24,7 +24,25 @@ namespace fs = std::filesystem;
 using namespace pbx;
 
 namespace {
+// USL (the default) with friction and the binder layer; USF and MUSL, which are refused with
+// frictional contact (scene.cpp: a sticking block creeps), with frictionless walls and fields.
 std::string deck_for(const std::string& integrator, double flip) {
+  const bool usl = integrator == "usl";
+  const std::string contact = usl ? R"(
+[contact]
+default = "coulomb"
+friction = 0.3
+[[contact.pair]]
+materials = ["tatb", "tatb"]
+law = "binder_layer"
+friction = 0.3
+binder = "f2314"
+thickness = "4 um"
+)"
+                                  : R"(
+[contact]
+default = "frictionless"
+)";
   return R"(
 [run]
 end_strain = 0.006
@@ -44,7 +62,8 @@ width = "0.2 mm"
 height = "0.24 mm"
 punch_velocity = "0.3 m/s"
 ramp_strain = 0.001
-wall_friction = 0.3
+wall_friction = )" +
+         std::string(usl ? "0.3" : "0.0") + R"(
 [materials.tatb]
 model = "j2_mie_gruneisen"
 density = "1.934 g/cm3"
@@ -77,16 +96,7 @@ field = "tatb_1"
 min = ["0 mm", "0 mm"]
 max = ["0.2 mm", "0.24 mm"]
 material = "f2314"
-[contact]
-default = "coulomb"
-friction = 0.3
-[[contact.pair]]
-materials = ["tatb", "tatb"]
-law = "binder_layer"
-friction = 0.3
-binder = "f2314"
-thickness = "4 um"
-)";
+)" + contact;
 }
 
 std::string slurp(const fs::path& p) {
@@ -145,9 +155,9 @@ void check_restart(const std::string& integrator, double flip) {
     ADD_FAILURE() << "no column " << column;
     return 0.0;
   };
-  EXPECT_GT(last("dissipated_J_per_m"), 0.1 * last("internal_J_per_m")) << integrator;
-  EXPECT_GT(last("layer_energy_J_per_m"), 0.0) << integrator;
+  EXPECT_GT(last("dissipated_J_per_m"), 0.02 * last("internal_J_per_m")) << integrator;  // usf: 4.4 %, usl 25 %
   EXPECT_GT(last("contact_tatb_tatb_fn_N_per_m"), 0.0) << integrator;
+  if (integrator == "usl") EXPECT_GT(last("layer_energy_J_per_m"), 0.0);
   if (!::testing::Test::HasFailure() && !std::getenv("PBX_KEEP")) fs::remove_all(dir);
 }
 }  // namespace
