@@ -33,16 +33,21 @@ std::vector<double> read_doubles(const std::string& file, const char* name) {
   H5Fclose(f);
   return v;
 }
+// The elastic block in the die to 1 % strain with three snapshots (t = 0, T/2, T), written to `dir`.
+Scene<2> block_with_snapshots(const fs::path& dir, RunOptions& o) {
+  fs::remove_all(dir);
+  std::string deck = test::block_deck(100, 0.01);
+  deck.replace(deck.find("snapshots = 0"), 13, "snapshots = 2");
+  o = test::quiet();
+  o.out_dir = dir.string();
+  return test::scene_from(deck);
+}
 }  // namespace
 
 TEST(Snapshots, RigidBodiesAreWrittenBesideTheSpecimen) {
   const fs::path dir = fs::temp_directory_path() / ("pbx_test_snapshots_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  std::string deck = test::block_deck(100, 0.01);
-  deck.replace(deck.find("snapshots = 0"), 13, "snapshots = 2");
-  Scene<2> sc = test::scene_from(deck);
-  RunOptions o = test::quiet();
-  o.out_dir = dir.string();
+  RunOptions o;
+  Scene<2> sc = block_with_snapshots(dir, o);
   std::size_t rigid = 0, punch_first = 0, punch_count = 0;
   for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
     if (sc.bodies[b].name == "punch") {
@@ -82,12 +87,8 @@ TEST(Snapshots, RigidBodiesAreWrittenBesideTheSpecimen) {
 // block in the die has sxx != syy != szz, so every diagonal slot is told apart.
 TEST(Snapshots, ParticleDatasetsReadBackAsTheParticlesState) {
   const fs::path dir = fs::temp_directory_path() / ("pbx_test_snapshots_state_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  std::string deck = test::block_deck(100, 0.01);
-  deck.replace(deck.find("snapshots = 0"), 13, "snapshots = 2");
-  Scene<2> sc = test::scene_from(deck);
-  RunOptions o = test::quiet();
-  o.out_dir = dir.string();
+  RunOptions o;
+  Scene<2> sc = block_with_snapshots(dir, o);
   {
     Runner<2> r(sc, o);
     r.run();
