@@ -308,10 +308,13 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
           if (notes == SceneNotes::print)
             fmt::print(
                 stderr,
-                "pbxmpm: note: {} pair(s) of grains of one contact colour come within 2 cells ({:.3g} m) of each "
-                "other at this cell size and would share grid nodes (one body, no contact law): re-coloured "
-                "with {} colours (the packing had {})\n",
-                clashes, 2.0 * h, packing.stats.colours, before);
+                "pbxmpm: note: {} of grains of one contact colour come{} within 2 cells ({:.3g} m) of each "
+                "other at this cell size and would share grid nodes (one body, no contact law): {}\n",
+                clashes == 1 ? std::string("1 pair") : fmt::format("{} pairs", clashes), clashes == 1 ? "s" : "",
+                2.0 * h,
+                packing.stats.colours == before
+                    ? fmt::format("the grains re-coloured among the packing's {} colours", before)
+                    : fmt::format("re-coloured with {} colours (the packing had {})", packing.stats.colours, before));
       }
       sc.packing_stats = packing.stats;
       if (packing.grains_shrunk > 0)

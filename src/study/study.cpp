@@ -502,7 +502,8 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   invalid = mpi.sum(invalid);
   if (invalid > 0) {
     if (mpi.rank == 0)
-      std::fprintf(stderr, "pbxmpm study: %d run(s) with an invalid or changed deck; no run started\n", invalid);
+      std::fprintf(stderr, "pbxmpm study: %d %s with an invalid or changed deck; no run started\n", invalid,
+                   invalid == 1 ? "run" : "runs");
     return kStudyNotStarted;
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -638,8 +639,9 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     int ran = 0;
     for (const bool p : pending) ran += p;
-    std::fprintf(stderr, "pbxmpm study: %zu runs (%d attempted now), %d failed, %.0f s\n", s.runs.size(), ran, failed,
-                 elapsed);
+    // the runs this command attempted; the others finished before or were left out by --only
+    std::fprintf(stderr, "pbxmpm study: %d of the study's %zu runs attempted now, %d failed, %.0f s\n", ran,
+                 s.runs.size(), failed, elapsed);
     std::string missing;
     for (const auto& r : s.runs)
       if (!finished(out / "runs" / r.id)) missing += (missing.empty() ? "" : ", ") + r.id;

@@ -399,8 +399,11 @@ def main():
     titles = sorted({str(get(r["a"], "title", default="")) for r in runs} - {""})
     if titles:  # a calibrated study says so in its runs' title
         rep.p("Run title: " + "; ".join(titles) + ".")
-    rep.p(f"Study '{study.get('name', '?')}': {len(runs)} runs, {len(conds)} conditions, up to {nseeds} seed(s) "
-          f"per condition; code version(s): {', '.join(versions)}. Values are mean ± standard deviation over seeds "
+    def count(n, one, many):
+        return f"{n} {one if n == 1 else many}"
+    rep.p(f"Study '{study.get('name', '?')}': {count(len(runs), 'run', 'runs')}, "
+          f"{count(len(conds), 'condition', 'conditions')}, up to {count(nseeds, 'seed', 'seeds')} "
+          f"per condition; {'code version' if len(versions) == 1 else 'code versions'}: {', '.join(versions)}. Values are mean ± standard deviation over seeds "
           f"(std = 0 with one seed). Fitted constants carry {100 * fits.get('confidence', 0.95):.0f} % confidence "
           "intervals (Student t on the linearised covariance). Paper values are from its Tables 2-3 and Eq. 13-22 "
           "(tools/report/paper_values.toml); ratio = ours / paper. Definitions: docs/theory/analysis.md.")
