@@ -168,14 +168,14 @@ void register_run(CLI::App& app) {
   auto* check =
       app.add_subcommand("check", "Validate a run deck or a study deck (every run's deck) without running it");
   check->add_option("deck", *check_file, "TOML deck")->required()->check(CLI::ExistingFile);
-  check->add_option("--set", *check_set, "override a run deck's key, KEY=VALUE in TOML, as pbxmpm run --set");
+  check->add_option("--set", *check_set,
+                    "override a key, KEY=VALUE in TOML, as pbxmpm run --set or pbxmpm study --set would");
   check->callback([check_file, check_set] {
     // a study deck is checked as `pbxmpm study` checks it before its first run: every run's deck
     // built, every specimen packed
     if (Deck::from_file(*check_file).root().has("study")) {
-      if (!check_set->empty())
-        throw InputError("pbxmpm check: --set applies to run decks (a study sets keys in [study.set])");
-      const StudySpec s = read_study(*check_file);
+      StudySpec s = read_study(*check_file);
+      apply_set_options(s, *check_set);  // as `pbxmpm study ... --set` would run it
       const int n = check_study(s);
       std::printf("%s: valid study '%s': %d runs over base deck %s, every run deck builds\n", check_file->c_str(),
                   s.name.c_str(), n, s.base_deck.c_str());

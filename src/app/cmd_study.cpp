@@ -52,21 +52,7 @@ void register_study(CLI::App& app) {
           "--out: an empty folder name (an unset shell variable?); give a folder, or leave --out out for out/<study "
           "name>");
     StudySpec s = read_study(a->deck);
-    // command-line overrides come after the study's [study.set] and before the groups' own keys
-    // would: a key a group varies cannot be overridden for all runs
-    for (const auto& text : a->set) {
-      const DeckOverride ov = parse_override_option(text);
-      if (ov.first == "specimen.seed" || ov.first == "packing.seed")
-        throw InputError(
-            fmt::format("--set '{}': a study gives each run its seed (study.seeds or a group's seeds)", ov.first));
-      for (auto& r : s.runs) {
-        // a run's overrides end with its group's key and its seed (study.cpp, read_study)
-        if (r.set.size() < 2) throw std::logic_error("a study run without its group key and seed");
-        if (r.set[r.set.size() - 2].first == ov.first)
-          throw InputError(fmt::format("--set '{}': group '{}' varies this key", ov.first, r.group));
-        r.set.insert(r.set.end() - 2, ov);
-      }
-    }
+    apply_set_options(s, a->set);
     StudyOptions o;
     if (a->out.empty() && !is_folder_name(s.name))
       throw InputError(

@@ -662,4 +662,20 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   return failed;
 }
 
+void apply_set_options(StudySpec& s, const std::vector<std::string>& set) {
+  for (const auto& text : set) {
+    const DeckOverride ov = parse_override_option(text);
+    if (ov.first == "specimen.seed" || ov.first == "packing.seed")
+      throw InputError(
+          fmt::format("--set '{}': a study gives each run its seed (study.seeds or a group's seeds)", ov.first));
+    for (auto& r : s.runs) {
+      // a run's overrides end with its group's key and its seed (read_study)
+      if (r.set.size() < 2) throw std::logic_error("a study run without its group key and seed");
+      if (r.set[r.set.size() - 2].first == ov.first)
+        throw InputError(fmt::format("--set '{}': group '{}' varies this key", ov.first, r.group));
+      r.set.insert(r.set.end() - 2, ov);
+    }
+  }
+}
+
 }  // namespace pbx

@@ -37,6 +37,11 @@ struct StudySpec {
 // Reads and validates a study deck (unknown keys are errors naming the key).
 StudySpec read_study(const std::string& file);
 
+// `--set KEY=VALUE` options of `pbxmpm study` and `pbxmpm check`, applied to every run after the
+// study's [study.set] and before each run's group key and seed: a key a group varies, and the
+// seeds, are refused (InputError naming the option).
+void apply_set_options(StudySpec& s, const std::vector<std::string>& set);
+
 // Letters, digits, '_', '-', '.' and not starting with '.' or '-': safe as one folder name.
 bool is_folder_name(const std::string& name);
 

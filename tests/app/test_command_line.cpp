@@ -165,6 +165,14 @@ TEST_F(CommandLine, CheckValidatesAStudyDeck) {
   const Result r = pbxmpm("check " + (fs::path(PBXMPM_EXAMPLES_DIR) / "paper" / "quick.toml").string());
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("valid study 'paper-quick': 13 runs"), std::string::npos) << r.output;
+  // --set as `pbxmpm study --set` takes it: applied to every run deck, checked like the deck, and a
+  // key a group varies refused
+  const std::string own = (fs::path(PBXMPM_EXAMPLES_DIR) / "own" / "binder_stiffer.toml").string();
+  const Result ok = pbxmpm("check " + own + " --set 'grid.cell_size=\"40 um\"'");
+  EXPECT_EQ(ok.code, 0) << ok.output;
+  expect_refused("check " + own + " --set 'grid.colour=1'", "unknown key 'grid.colour'");
+  expect_refused("check " + own + " --set 'run.temperature=\"300 K\"'",
+                 "--set 'run.temperature': group 'reference' varies this key");
 }
 
 // analyze's numeric flags are checked, not ignored when out of range (they are read before the
