@@ -26,18 +26,25 @@ int main(int argc, char** argv) {
   pbx::app::register_analysis(app);
   pbx::app::register_study(app);
   // A misspelt command would otherwise be reported as "A subcommand is required".
-  if (argc > 1 && argv[1][0] != '-') {
+  // The same one level down (pbxmpm fit foo) when the command takes sub-commands.
+  CLI::App* parent = &app;
+  std::string path = "pbxmpm";
+  for (int level = 1; level <= 2 && argc > level && argv[level][0] != '-'; ++level) {
+    const auto subs = parent->get_subcommands([](CLI::App*) { return true; });
+    if (subs.empty()) break;
     std::string names;
-    bool known = false;
-    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
-      known = known || sub->get_name() == argv[1];
+    CLI::App* found = nullptr;
+    for (CLI::App* sub : subs) {
+      if (sub->get_name() == argv[level]) found = sub;
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
-    if (!known) {
-      std::fprintf(stderr, "pbxmpm: unknown command '%s' (the commands: %s; see pbxmpm --help)\n", argv[1],
-                   names.c_str());
+    if (!found) {
+      std::fprintf(stderr, "%s: unknown command '%s' (the commands: %s; see %s --help)\n", path.c_str(), argv[level],
+                   names.c_str(), path.c_str());
       return 2;
     }
+    path += std::string(" ") + argv[level];
+    parent = found;
   }
   // Exit codes (README, "Exit codes"): 0 done, 1 other error, 2 bad input or usage, 3 run stopped
   // unstable, 4 an output file could not be written, 130 interrupted (a checkpoint was saved).

@@ -103,6 +103,8 @@ TEST_F(CommandLine, ErrorsNameTheirCause) {
   expect_refused("check " + variant("ms.toml", "mass_scaling = 10", "mass_scaling = 1e9"),
                  "solver.mass_scaling: must be <= 10000");
   expect_refused("rnu " + both, "unknown command 'rnu' (the commands: run, check");
+  expect_refused("fit tempreature x.csv",
+                 "pbxmpm fit: unknown command 'tempreature' (the commands: temperature, curve");
   EXPECT_EQ(pbxmpm("run --threads 0 " + both).code, 2) << "a usage error exits 2, not CLI11's 105";
   expect_refused("analyze " + both, "is a file: give the run's folder");
   expect_refused(
