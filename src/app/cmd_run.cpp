@@ -83,7 +83,17 @@ void run_deck(Deck& deck, const RunArgs& args, const std::string& deck_name, con
              bodies == 0 ? std::string() : fmt::format(" and {} rigid bod{}", bodies, bodies == 1 ? "y" : "ies"),
              scene.control.end_time, args.out);
   const auto t0 = std::chrono::steady_clock::now();
-  runner.run();
+  try {
+    runner.run();
+  } catch (const InstabilityError&) {
+    // the closing line of a run that stopped: how far it got and where its rows are (main prints why)
+    std::fprintf(stderr,
+                 "pbxmpm: stopped after %ld steps in %.1f s; what it wrote is in %s (history.csv, run.json "
+                 "with status 'failed' and the reason)\n",
+                 runner.solver().step_count(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), args.out.c_str());
+    throw;
+  }
   // one closing line: what happened, how long, where the results are
   std::fprintf(stderr, "pbxmpm: finished: %ld steps in %.1f s; results in %s (history.csv, run.json%s)\n",
                runner.solver().step_count(),
