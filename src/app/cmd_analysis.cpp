@@ -163,6 +163,20 @@ AnalyzeArgs with_study_options(AnalyzeArgs a, bool quiet = false) {
   return a;
 }
 
+// A run of a study (STUDY/runs/<id>) is analysed by `analyze` with the study's analysis.toml too,
+// as the study and its report analysed it; the line on stderr says so (--options overrides).
+AnalyzeArgs with_run_study_options(AnalyzeArgs a) {
+  const std::filesystem::path study = std::filesystem::absolute(a.dir).lexically_normal().parent_path().parent_path();
+  const std::filesystem::path run = std::filesystem::absolute(a.dir).lexically_normal();
+  if (a.options_file.empty() && run.parent_path().filename() == "runs" &&
+      std::filesystem::exists(study / "study.json") && std::filesystem::exists(study / "analysis.toml")) {
+    a.options_file = (study / "analysis.toml").string();
+    fmt::print(stderr, "pbxmpm: analysis options from {} (the study's [analysis] table; --options to use others)\n",
+               a.options_file);
+  }
+  return a;
+}
+
 void add_analysis_flags(CLI::App* c, AnalyzeArgs& a) {
   c->add_option("--window", a.window, "linear window LO:HI in strain (default: found automatically)");
   c->add_option("--plateau", a.plateau, "plateau window LO:HI in strain for the yield intersection");
@@ -222,7 +236,7 @@ void register_analysis(CLI::App& app) {
   an->add_option("RUN_DIR", aa->dir, "run directory")->required();
   add_analysis_flags(an, *aa);
   an->callback([aa] {
-    const Json j = analyze_run_to_file(aa->dir, analysis_options(*aa));
+    const Json j = analyze_run_to_file(aa->dir, analysis_options(with_run_study_options(*aa)));
     auto n = [&](std::initializer_list<const char*> path) {
       const Json* p = &j;
       for (auto k : path) p = p ? json_find(*p, k) : nullptr;

@@ -336,3 +336,24 @@ TEST_F(CommandLine, MaterialTemperatureDefaultsToTheDecksOrTheMaterialsOwn) {
                             "reference_temperature = \"300 K\"\nbulk_modulus = \"1 GPa\"\nshear_modulus = \"1 GPa\"\n";
   expect_refused("material " + elastic + load, "unknown key 'materials.m.reference_temperature'");
 }
+
+// `analyze STUDY/runs/<id>` reads the study's analysis.toml, as the study and its report did, and
+// says so; --options overrides it. Here the study's table fixes the window by hand, which the
+// automatic window would never give to the digit.
+TEST_F(CommandLine, AnalyzeOfAStudyRunUsesTheStudysAnalysisOptions) {
+  const fs::path results = fs::path(PBXMPM_EXAMPLES_DIR).parent_path() / "results" / "paper-quick";
+  const fs::path run = dir / "study" / "runs" / "temperature-293K-s1";
+  fs::create_directories(run);
+  for (const char* f : {"history.csv", "run.json"})
+    fs::copy_file(results / "runs" / "temperature-293K-s1" / f, run / f);
+  fs::copy_file(results / "study.json", dir / "study" / "study.json");
+  write("study/analysis.toml", "[analysis]\nlinear_window = [0.001, 0.003]\n");
+  const Result r = pbxmpm("analyze " + run.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("analysis options from " + (dir / "study" / "analysis.toml").string()), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("linear window: strain 0.001 .. 0.003"), std::string::npos) << r.output;
+  write("mine.toml", "[analysis]\nlinear_window = [0.002, 0.004]\n");
+  const Result mine = pbxmpm("analyze " + run.string() + " --options " + (dir / "mine.toml").string());
+  EXPECT_NE(mine.output.find("linear window: strain 0.002 .. 0.004"), std::string::npos) << mine.output;
+}
