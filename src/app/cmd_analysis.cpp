@@ -166,8 +166,9 @@ AnalyzeArgs with_study_options(AnalyzeArgs a, bool quiet = false) {
 // A run of a study (STUDY/runs/<id>) is analysed by `analyze` with the study's analysis.toml too,
 // as the study and its report analysed it; the line on stderr says so (--options overrides).
 AnalyzeArgs with_run_study_options(AnalyzeArgs a) {
-  const std::filesystem::path study = std::filesystem::absolute(a.dir).lexically_normal().parent_path().parent_path();
-  const std::filesystem::path run = std::filesystem::absolute(a.dir).lexically_normal();
+  std::filesystem::path run = std::filesystem::absolute(a.dir).lexically_normal();
+  if (!run.has_filename()) run = run.parent_path();  // "runs/ID/" or "." from inside the run
+  const std::filesystem::path study = run.parent_path().parent_path();
   if (a.options_file.empty() && run.parent_path().filename() == "runs" &&
       std::filesystem::exists(study / "study.json") && std::filesystem::exists(study / "analysis.toml")) {
     a.options_file = (study / "analysis.toml").string();

@@ -1,6 +1,8 @@
 #include "io/json.hpp"
 
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 
@@ -61,11 +63,85 @@ Json json_numbers(const std::vector<double>& xs) {
   return a;
 }
 
-std::string json_dump(const Json& j) { return j.dump(2, ' ', false, Json::error_handler_t::replace); }
+namespace {
+
+// Integral doubles are written as integers ("293", not "293.0"), as the project's files always
+// had them: readers (the report's Python, people) see a temperature or a count as a whole number.
+void integral_doubles_as_integers(Json& j) {
+  if (j.is_number_float()) {
+    const double x = j.get<double>();
+    if (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 1e15) j = static_cast<std::int64_t>(x);
+  } else if (j.is_structured()) {
+    for (auto& e : j) integral_doubles_as_integers(e);
+  }
+}
+
+// Arrays holding only numbers and nulls on one line: a curve of 400 points would otherwise take
+// 400 lines (nlohmann writes one element per line).
+std::string flat_number_arrays(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t i = 0;
+  while (i < text.size()) {
+    if (text[i] == '"') {  // a string is copied as it is, brackets and all
+      std::size_t e = i + 1;
+      while (e < text.size() && text[e] != '"') e += text[e] == '\\' ? 2 : 1;
+      out.append(text, i, e + 1 - i);
+      i = e + 1;
+      continue;
+    }
+    if (text[i] != '[') {
+      out += text[i++];
+      continue;
+    }
+    std::size_t k = i + 1;
+    bool numeric = true, any = false;
+    for (; k < text.size() && text[k] != ']'; ++k) {
+      const char c = text[k];
+      if (c == '[' || c == '{' || c == '"') {
+        numeric = false;
+        break;
+      }
+      any = any || !std::isspace(static_cast<unsigned char>(c));
+    }
+    if (!numeric || k >= text.size() || !any) {
+      out += text[i++];
+      continue;
+    }
+    // "[\n  1,\n  2\n]" -> "[1, 2]"
+    out += '[';
+    std::string item;
+    bool first = true;
+    for (std::size_t m = i + 1; m <= k; ++m) {
+      const char c = m < k ? text[m] : ',';
+      if (c == ',') {
+        if (!first) out += ", ";
+        out += item;
+        item.clear();
+        first = false;
+      } else if (!std::isspace(static_cast<unsigned char>(c))) {
+        item += c;
+      }
+    }
+    out += ']';
+    i = k + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string json_dump(const Json& j) {
+  Json copy = j;
+  integral_doubles_as_integers(copy);
+  return flat_number_arrays(copy.dump(2, ' ', false, Json::error_handler_t::replace));
+}
 
 Json json_parse(const std::string& text, const std::string& source) {
   try {
     return Json::parse(text);
+  } catch (const Json::out_of_range& e) {  // e.g. a number beyond a double (1e400)
+    throw InputError(fmt::format("{}: invalid JSON: {}", source, e.what()));
   } catch (const Json::parse_error& e) {
     // e.byte is 1-based and points just past the offending character
     int line = 1, col = 1;

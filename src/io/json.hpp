@@ -45,8 +45,9 @@ std::string json_dump(const T&) = delete;
 // An array of doubles; non-finite entries are written as null (JSON has no NaN).
 Json json_numbers(const std::vector<double>& xs);
 
-// Two-space indentation; invalid UTF-8 in strings is replaced (U+FFFD) rather than thrown at write
-// time, so that a message read from a file or the OS can never lose a result file.
+// Two-space indentation, arrays of numbers on one line, integral numbers without ".0"; invalid
+// UTF-8 in strings is replaced (U+FFFD) rather than thrown at write time, so that a message read
+// from a file or the OS can never lose a result file.
 std::string json_dump(const Json& j);
 // Parse errors are InputErrors naming `source`, its line and column.
 Json json_parse(const std::string& text, const std::string& source = "<json>");

@@ -79,13 +79,16 @@ template <int D>
 std::unique_ptr<Material<D>> make_material(const DeckTable& t, const MaterialContext& ctx) {
   const std::string model = t.string("model");
   MaterialFactory<D> factory;
+  std::vector<std::string> known;  // this dimension's models: one registered for 3-D only is not offered in 2-D
   {
     auto& m = models<D>();
     std::lock_guard<std::mutex> hold(m.lock);
     if (auto it = m.map.find(model); it != m.map.end()) factory = it->second;
+    for (auto& [k, v] : m.map) known.push_back(k);
   }
   if (!factory)
-    t.fail("model", fmt::format("unknown material model '{}' (known: {})", model, fmt::join(material_models(), ", ")));
+    t.fail("model",
+           fmt::format("unknown material model '{}' (known for {}-D decks: {})", model, D, fmt::join(known, ", ")));
   return factory(t, ctx);
 }
 

@@ -157,7 +157,9 @@ void check_restart(const std::string& integrator, double flip) {
   };
   EXPECT_GT(last("dissipated_J_per_m"), 0.02 * last("internal_J_per_m")) << integrator;  // usf: 4.4 %, usl 25 %
   EXPECT_GT(last("contact_tatb_tatb_fn_N_per_m"), 0.0) << integrator;
-  if (integrator == "usl") EXPECT_GT(last("layer_energy_J_per_m"), 0.0);
+  if (integrator == "usl") {
+    EXPECT_GT(last("layer_energy_J_per_m"), 0.0);
+  }
   if (!::testing::Test::HasFailure() && !std::getenv("PBX_KEEP")) fs::remove_all(dir);
 }
 }  // namespace
