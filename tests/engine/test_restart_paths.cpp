@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "../materials/material_fixtures.hpp"
 #include "io/checkpoint.hpp"
 #include "scene_fixture.hpp"
 
@@ -28,6 +29,10 @@ namespace {
 // frictional contact (scene.cpp: a sticking block creeps), with frictionless walls and fields.
 std::string deck_for(const std::string& integrator, double flip) {
   const bool usl = integrator == "usl";
+  // the paper's TATB (material_fixtures.hpp) with a yield stress low enough to flow in this run
+  std::string tatb = "[materials.tatb]" + test::tatb_body;
+  const std::string paper_yield = "yield_stress = \"0.80 GPa\"";
+  tatb.replace(tatb.find(paper_yield), paper_yield.size(), "yield_stress = \"20 MPa\"");
   const std::string contact = usl ? R"(
 [contact]
 default = "coulomb"
@@ -64,22 +69,8 @@ punch_velocity = "0.3 m/s"
 ramp_strain = 0.001
 wall_friction = )" +
          std::string(usl ? "0.3" : "0.0") + R"(
-[materials.tatb]
-model = "j2_mie_gruneisen"
-density = "1.934 g/cm3"
-shear_modulus = "11.5 GPa"
-yield_stress = "20 MPa"
-sound_speed = "2340 m/s"
-hugoniot_s1 = 2.32
-gruneisen_gamma0 = 1.60
-[materials.f2314]
-model = "viscoelastic_tait"
-density = "2.02 g/cm3"
-long_term_shear_modulus = "10 MPa"
-prony_shear_moduli = ["12.5 MPa", "12.5 MPa", "12.5 MPa"]
-prony_shear_times = ["1e-6 s", "1e-5 s", "1e-4 s"]
-tait_c = 0.08936
-tait_k0 = "0.27 GPa"
+)" + tatb +
+         "[materials.f2314]" + test::f2314_body + R"(
 [[geometry]]
 shape = "disk"
 center = ["0.055 mm", "0.12 mm"]
