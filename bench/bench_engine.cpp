@@ -13,10 +13,10 @@
 
 #include <fmt/format.h>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include "io/deck.hpp"
 #include "solver/solver.hpp"
+#include "step_timing.hpp"
 
 using namespace pbx;
 
@@ -61,25 +61,14 @@ material = "block"
     Deck deck = Deck::from_string(deck_text, "bench");
     Scene<2> sc = build_scene<2>(deck);
     Solver<2> solver(sc);
-    for (int s = 0; s < 5; ++s) solver.step();  // warm-up: first-touch, caches
-    rusage ru0{};
-    getrusage(RUSAGE_SELF, &ru0);
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int s = 0; s < steps; ++s) solver.step();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    const auto seconds = [](const timeval& tv) {
-      return static_cast<double>(tv.tv_sec) + 1e-6 * static_cast<double>(tv.tv_usec);
-    };
-    const double user = seconds(ru.ru_utime) - seconds(ru0.ru_utime);
-    const double cpu = user + seconds(ru.ru_stime) - seconds(ru0.ru_stime);
+    const bench::StepTiming r = bench::time_steps(solver, steps);
     const double n = static_cast<double>(sc.particles.size());
     std::printf(
         "integrator %s  threads %d  particles %.0f  steps %d  wall %.3f s  %.3g particle-updates/s  "
         "user %.3f s  cpu %.3f s  %.3g particle-updates/cpu-s  peak RSS %.1f MB (%.0f bytes/particle)\n",
-        integrator.c_str(), t, n, steps, wall, n * steps / wall, user, cpu, n * steps / cpu, ru.ru_maxrss / 1024.0,
-        ru.ru_maxrss * 1024.0 / n);
+        integrator.c_str(), t, n, steps, r.wall, r.updates_per_s, r.user, r.cpu, n * steps / r.cpu, r.peak_rss_mb,
+        r.peak_rss_mb * 1024.0 * 1024.0 / n);
+    bench::print_stages(solver, steps);
   }
   return 0;
 }

@@ -10,6 +10,7 @@ set(PBXMPM_LABELLED_TESTS
   engine DieBlock.MassScalingKeepsTheCurveAndCutsSteps slow
   engine DieBlock.ConstrainedModulusLateralRatioAndQuasiStatic slow
   engine Threads.OneAndTwoThreadsGiveIdenticalHistories slow
+  engine ContactMask.ContactSumsOnThePaperSpecimenEqualAFullScatter slow
   contact InclinedPlane.FieldPlaneSlidesAtCoulombAccelerationOrSticks slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticToTheEnd slow

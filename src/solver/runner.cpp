@@ -432,6 +432,16 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   j["restarts"] = restarts_;
   j["particle_updates_per_s"] = wall > 0 ? rounded(static_cast<double>(P.size()) * steps / wall, 0) : 0.0;
   j["peak_memory_MB"] = rounded(peak_memory_mb(), 1);
+  {
+    // where this segment's wall time went: the step's stages (solver/stage_clock.hpp), and the
+    // rest of the run (history rows, field overlap, snapshots, checkpoints, progress)
+    const StageClock& c = solver_.stage_clock();
+    Json stages;
+    for (std::size_t s = 0; s < kStageNames.size(); ++s)
+      stages[kStageNames[s]] = rounded(c.seconds(static_cast<Stage>(s)), 4);
+    stages["outside_steps"] = rounded(std::max(0.0, now_s() - wall_start_ - c.total()), 4);
+    j["stage_wall_s"] = stages;
+  }
   j["field_overlap_pixel_m"] = overlap_ ? Json(overlap_->pixel()) : Json();
   j["temperature_K"] = sc_.control.temperature;
   j["mass_scaling"] = sc_.settings.mass_scaling;
@@ -683,6 +693,7 @@ void Runner<D>::resume(const CheckpointData& c) {
 template <int D>
 void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
   wall_start_ = now_s();
+  solver_.stage_clock().clear();
   const double t_end = sc_.control.end_time;
   steps_at_start_ = solver_.step_count();
   frac_at_start_ = std::min(1.0, solver_.time() / t_end);

@@ -133,8 +133,9 @@ void Solver<D>::step(double max_dt) {
       grid_update();
       contact(true, true);
       finalize_grid_velocities();
-      reset_grid();      // the nodal sums of the next step start here (G2P reads only vel, dvel)
-      g2p_update_p2g();  // G2P -> stress update -> next step's P2G, chunk by chunk
+      mark_contact_bases();  // from this step's masses, before they are reset
+      reset_grid();          // the nodal sums of the next step start here (G2P reads only vel, dvel)
+      g2p_update_p2g();      // G2P -> stress update -> next step's P2G, chunk by chunk
       grid_primed_ = true;
       break;
     case Integrator::musl:
@@ -160,6 +161,7 @@ void Solver<D>::step(double max_dt) {
 // Zeroes the nodal sums of the deformable fields (the rigid presence is rigid_p2g's own).
 template <int D>
 void Solver<D>::reset_grid() {
+  const auto timer = clock_.scope(Stage::reset);
   auto& g = sc_.grid;
   const long n = static_cast<long>(g.mass.size());
   const bool gradients = track_gradients_;
@@ -187,6 +189,7 @@ void Solver<D>::reset_grid() {
 // increment.
 template <int D>
 void Solver<D>::keep_interpolated_momentum() {
+  const auto timer = clock_.scope(Stage::grid_update);
   auto& g = sc_.grid;
   const long n = static_cast<long>(g.mom.size());
 #pragma omp parallel for schedule(static)
@@ -199,10 +202,11 @@ Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
   // Mass-centre offsets serve the rigid-body contact gate, the field position check
   // (contact.position_check), which without them would compare zero offsets and never fire, and
   // the binder_layer jump (its fields' mass centres), which without them would read a fixed jump.
-  const bool offsets = !sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0 || sc_.grid.layers();
+  const bool for_contact = sc_.contact.position_cutoff > 0.0 || sc_.grid.layers();
+  const bool offsets = !sc_.bodies.empty() || for_contact;
   return Scatter<D>{
-      sc_.grid, sc_.particles,    sc_.settings.mass_scaling, grav, grav.squaredNorm() > 0, mass_momentum, forces,
-      offsets,  track_gradients_, sc_.grid.layers()};
+      sc_.grid, sc_.particles,    sc_.settings.mass_scaling, grav,       grav.squaredNorm() > 0, mass_momentum, forces,
+      offsets,  track_gradients_, sc_.grid.layers(),         for_contact};
 }
 
 // Even strips in parallel, then odd strips, then the strays serially (solver/bins.hpp).
@@ -228,11 +232,13 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
 
 template <int D>
 void Solver<D>::p2g(bool with_forces) {
+  const auto timer = clock_.scope(Stage::p2g);
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template p2g_impl<decltype(K)::value>(true, with_forces); });
 }
 
 template <int D>
 void Solver<D>::p2g_forces() {
+  const auto timer = clock_.scope(Stage::p2g);
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template p2g_impl<decltype(K)::value>(false, true); });
 }
 
@@ -324,9 +330,8 @@ void Solver<D>::mark_offset_bases() {
   offset_bases_valid_ = false;
   if constexpr (D == 2) {
     // only the fused USL pass reads the mask
-    if (sc_.settings.integrator != Integrator::usl || sc_.bodies.empty() || sc_.contact.position_cutoff > 0.0 ||
-        g.layers())
-      return;
+    // (where the field contact reads the offsets too, mark_contact_bases gates them for it)
+    if (sc_.settings.integrator != Integrator::usl || sc_.bodies.empty()) return;
     const double inv_h = 1.0 / g.h;
     const HalfWidth a(half_width_);
     for (const auto& body : sc_.bodies)
@@ -359,13 +364,68 @@ void Solver<D>::mark_offset_bases() {
   }
 }
 
+// The stencil base nodes of the particles whose next P2G must scatter what the field contact
+// reads (volume gradients, binder-layer sums, mass-centre offsets): the contact acts only at nodes
+// where two or more fields have mass, and the sums there must be whole. A particle moves less than
+// a cell per step (the fused pass checks it and re-runs a full P2G otherwise), so its stencil base
+// moves by at most one node: a node can hold two fields next step only if two fields are present
+// within one node of it now (a candidate), and a particle needs the data if its next stencil
+// [b, b + 2] holds a candidate. The sums at every node the contact reads are unchanged to the bit;
+// deep inside a grain (most particles at fine cells) the particles scatter only mass, momentum and
+// force. 2-D, fused USL pass only.
+template <int D>
+void Solver<D>::mark_contact_bases() {
+  contact_bases_valid_ = false;
+  if constexpr (D == 2) {
+    auto& g = sc_.grid;
+    const int nf = sc_.deformable_fields;
+    if (sc_.settings.integrator != Integrator::usl || nf < 2 || nf > 64 || sc_.contact.fields < 2 ||
+        sc_.contact.all_weld())
+      return;
+    const long nx = g.n[0], ny = g.n[1], nn = g.nodes();
+    field_bits_.assign(static_cast<std::size_t>(nn), 0);
+    std::uint64_t* bits = field_bits_.data();
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < nn; ++i) {
+      std::uint64_t b = 0;
+      for (int f = 0; f < nf; ++f)
+        if (g.mass[g.at(f, i)] > 0.0) b |= std::uint64_t{1} << f;
+      bits[i] = b;
+    }
+    // candidates: two or more fields within one node (a 3 x 3 OR, then a count)
+    std::vector<std::uint8_t>& cand = candidate_;
+    cand.assign(static_cast<std::size_t>(nn), 0);
+#pragma omp parallel for schedule(static)
+    for (long y = 0; y < ny; ++y)
+      for (long x = 0; x < nx; ++x) {
+        std::uint64_t u = 0;
+        for (long yy = std::max(0L, y - 1); yy <= std::min(ny - 1, y + 1); ++yy)
+          for (long xx = std::max(0L, x - 1); xx <= std::min(nx - 1, x + 1); ++xx) u |= bits[xx + yy * nx];
+        cand[static_cast<std::size_t>(x + y * nx)] = (u & (u - 1)) != 0;  // more than one bit set
+      }
+    // bases whose 3 x 3 stencil holds a candidate
+    contact_bases_.assign(static_cast<std::size_t>(nn), 0);
+#pragma omp parallel for schedule(static)
+    for (long y = 0; y < ny; ++y)
+      for (long x = 0; x < nx; ++x) {
+        std::uint8_t m = 0;
+        for (long yy = y; yy <= std::min(ny - 1, y + 2); ++yy)
+          for (long xx = x; xx <= std::min(nx - 1, x + 2); ++xx) m |= cand[static_cast<std::size_t>(xx + yy * nx)];
+        contact_bases_[static_cast<std::size_t>(x + y * nx)] = m;
+      }
+    contact_bases_valid_ = true;
+  }
+}
+
 template <int D>
 void Solver<D>::rigid_p2g() {
+  const auto timer = clock_.scope(Stage::rigid_p2g);
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template rigid_p2g_impl<decltype(K)::value>(); });
 }
 
 template <int D>
 void Solver<D>::contact(bool record, bool after_update) {
+  const auto timer = clock_.scope(Stage::contact);
   // After the grid update the rigid bodies act last, so that the walls' constraint holds at the
   // end of the step. The other order (walls, then the fields' exchange) let a field at a wall node
   // leave the exchange moving into the wall, which the wall met only at the next step: where two
@@ -410,6 +470,7 @@ void Solver<D>::rigid_stage(bool record) {
 
 template <int D>
 void Solver<D>::grid_update() {
+  const auto timer = clock_.scope(Stage::grid_update);
   auto& g = sc_.grid;
   const long n = static_cast<long>(sc_.deformable_fields) * g.nodes();
   const double dt = dt_;
@@ -420,6 +481,7 @@ void Solver<D>::grid_update() {
 
 template <int D>
 void Solver<D>::finalize_grid_velocities() {
+  const auto timer = clock_.scope(Stage::grid_update);
   auto& g = sc_.grid;
   const long n = static_cast<long>(sc_.deformable_fields) * g.nodes();
 #pragma omp parallel for schedule(static)
@@ -504,6 +566,7 @@ void Solver<D>::g2p_impl() {
 
 template <int D>
 void Solver<D>::g2p() {
+  const auto timer = clock_.scope(Stage::g2p);
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template g2p_impl<decltype(K)::value>(); });
 }
 
@@ -552,6 +615,7 @@ void Solver<D>::remap_gradient_impl() {
 
 template <int D>
 void Solver<D>::remap_velocity_gradient() {
+  const auto timer = clock_.scope(Stage::g2p);
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template remap_gradient_impl<decltype(K)::value>(); });
 }
 
@@ -579,12 +643,14 @@ void Solver<D>::velocity_gradient_impl() {
 
 template <int D>
 void Solver<D>::velocity_gradient() {
+  const auto timer = clock_.scope(Stage::g2p);
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template velocity_gradient_impl<decltype(K)::value>(); });
 }
 
 // Kinematics (F, J, V) and the material laws, one call per material per chunk of its batch.
 template <int D>
 void Solver<D>::update_stress() {
+  const auto timer = clock_.scope(Stage::stress);
   auto& P = sc_.particles;
   const double dt = dt_;
   constexpr long chunk = 2048;
@@ -642,6 +708,7 @@ void Solver<D>::update_stress() {
 
 template <int D>
 void Solver<D>::advance_bodies() {
+  const auto timer = clock_.scope(Stage::bodies);
   for (auto& b : sc_.bodies)
     if (b.moving()) b.move_to(t_);
   // The positions were checked where they were updated (G2P, the fused pass or the MUSL remap).

@@ -12,6 +12,7 @@
 #include "contact/contact_tally.hpp"
 #include "solver/bins.hpp"
 #include "solver/scene.hpp"
+#include "solver/stage_clock.hpp"
 #include "solver/transfer.hpp"
 
 namespace pbx {
@@ -42,6 +43,9 @@ class Solver {
   double max_wave_speed() const { return cmax_; }                              // unscaled, m/s
   // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
   ContactTally<D>& contact_tally() { return contact_tally_; }
+  // Wall seconds per stage since construction or the last clear (solver/stage_clock.hpp).
+  StageClock& stage_clock() { return clock_; }
+  const StageClock& stage_clock() const { return clock_; }
 
   // Clock and accumulators, saved in checkpoints and restored on restart.
   struct State {
@@ -94,6 +98,7 @@ class Solver {
   void rigid_p2g_impl();
   template <Kernel K>
   void mark_offset_bases();
+  void mark_contact_bases();
   void list_body_nodes(long lo, long hi);
   template <Kernel K>
   void particle_pass_impl();
@@ -122,10 +127,16 @@ class Solver {
   // rigid body), when valid this step (mark_offset_bases); otherwise every particle scatters them.
   std::vector<std::uint8_t> offset_bases_, static_offset_bases_;
   bool offset_bases_valid_ = false;
+  // Stencil base nodes of the particles whose next P2G must scatter the field contact's data
+  // (mark_contact_bases), when valid this step; otherwise every particle scatters it.
+  std::vector<std::uint8_t> contact_bases_, candidate_;
+  std::vector<std::uint64_t> field_bits_;
+  bool contact_bases_valid_ = false;
   // nodes where a rigid body is present, ascending (rigid_p2g): all bodies', and the static ones'
   std::vector<long> body_nodes_, static_body_nodes_;
   bool static_nodes_listed_ = false;
   ContactTally<D> contact_tally_;
+  StageClock clock_;
 };
 
 }  // namespace pbx

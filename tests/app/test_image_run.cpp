@@ -87,6 +87,20 @@ friction = 0.3
 
   const Json rj = json_read_file((dir / "out" / "run.json").string());
   EXPECT_EQ(json_string(*json_find(rj, "status")), "finished");
+  // where the wall time went: every stage of a multi-field die run did work, and the stages
+  // plus the rest of the run make up the wall time the run reports (one segment)
+  const Json& stages = *json_find(rj, "stage_wall_s");
+  double stage_sum = 0;
+  for (const char* s : {"rigid_p2g", "reset", "p2g", "contact", "grid_update", "g2p", "stress", "bodies"}) {
+    const double w = json_number(*json_find(stages, s));
+    EXPECT_GE(w, 0.0) << s;
+    if (std::string(s) != "bodies") {
+      EXPECT_GT(w, 0.0) << s;
+    }
+    stage_sum += w;
+  }
+  const double wall = json_number(*json_find(rj, "wall_time_s"));
+  EXPECT_NEAR(stage_sum + json_number(*json_find(stages, "outside_steps")), wall, 0.01 * wall + 1e-3);
   const double box = 0.4e-3 * 0.2e-3;
   const Json& spec = *json_find(rj, "specimen");
   EXPECT_NEAR(json_number(*json_find(spec, "packing_porosity")), void_px / 20000.0, 1e-12);
