@@ -11,6 +11,7 @@ set(PBXMPM_LABELLED_TESTS
   engine DieBlock.ConstrainedModulusLateralRatioAndQuasiStatic slow
   engine Threads.OneAndTwoThreadsGiveIdenticalHistories slow
   contact InclinedPlane.FieldPlaneSlidesAtCoulombAccelerationOrSticks slow
+  contact InclinedPlane.UsfAndMuslSlideAtCoulombAccelerationOrStick slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticToTheEnd slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
