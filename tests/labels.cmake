@@ -12,6 +12,7 @@ set(PBXMPM_LABELLED_TESTS
   engine Threads.OneAndTwoThreadsGiveIdenticalHistories slow
   engine ContactMask.ContactSumsOnThePaperSpecimenEqualAFullScatter slow
   contact InclinedPlane.FieldPlaneSlidesAtCoulombAccelerationOrSticks slow
+  contact InclinedPlane.UsfAndMuslSlideAtCoulombAccelerationOrStick slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticToTheEnd slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow

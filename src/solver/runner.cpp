@@ -583,6 +583,16 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
   std::vector<double> snaps;
   for (auto& [t, n] : snapshots_.written()) snaps.insert(snaps.end(), {t, static_cast<double>(n)});
   c.arrays["snapshots"] = snaps;
+  if (sc_.settings.integrator == Integrator::usf) {
+    // the velocities of the last contact pass that the next step's velocity gradient takes
+    // (Solver::contact_velocities): node-field index and velocity, D + 1 numbers each
+    std::vector<double> cv;
+    for (const auto& [k, v] : solver_.contact_velocities()) {
+      cv.push_back(static_cast<double>(k));
+      for (int d = 0; d < D; ++d) cv.push_back(v[d]);
+    }
+    c.arrays["contact_velocities"] = cv;
+  }
   pbx::write_checkpoint(file, c);
 }
 
@@ -646,6 +656,25 @@ void Runner<D>::resume(const CheckpointData& c) {
                                scalar("dissipated"),
                                static_cast<long>(scalar("steps"))};
   solver_.restore(st);
+  if (sc_.settings.integrator == Integrator::usf) {
+    // absent from checkpoints written before 2026-12-05: the first step takes L from the
+    // interpolated velocities alone, as USF did then
+    typename Solver<D>::ContactVelocities cv;
+    if (c.arrays.count("contact_velocities")) {
+      const auto& a = c.arrays.at("contact_velocities");
+      const double nd = static_cast<double>(sc_.grid.nodes()) * sc_.deformable_fields;
+      if (a.size() % (D + 1) != 0)
+        throw InputError("checkpoint array 'contact_velocities' has the wrong size for this deck");
+      for (std::size_t i = 0; i < a.size(); i += D + 1) {
+        if (!(a[i] >= 0 && a[i] < nd))
+          throw InputError("checkpoint array 'contact_velocities' names a node outside this deck's grid");
+        Vec<D> v;
+        for (int d = 0; d < D; ++d) v[d] = a[i + 1 + static_cast<std::size_t>(d)];
+        cv.emplace_back(static_cast<long>(a[i]), v);
+      }
+    }
+    solver_.restore_contact_velocities(std::move(cv));
+  }
   t_last_row_ = scalar("t_last_row");
   punch_work_ = scalar("punch_work");
   next_row_ = static_cast<int>(scalar("next_row"));

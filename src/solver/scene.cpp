@@ -593,27 +593,6 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
                         "die test there (with linear shapes the punch overruns the top particle row and the run "
                         "inverts; with bspline2 the wall/punch ratio is 3-6 % low); see docs/deck/engine.md",
                         kernel_name(sc.settings.kernel)));
-  // USF and MUSL with friction: a block that must stick on a plane (20 deg, mu 0.5; the inclined-plane
-  // test's case) creeps at a steady 0.07 m/s, 0.7 % of the frictionless slide's speed after 30 us,
-  // on a rigid plane and on a deformable one alike, where USL holds it (|v| < 3e-6 m/s). Measured
-  // 2026-12-05 (tests/contact/test_inclined_plane.cpp); not yet understood, so refused.
-  if (sc.settings.integrator != Integrator::usl) {
-    bool friction = std::any_of(sc.bodies.begin(), sc.bodies.end(), [](const RigidBody<D>& b) {
-      return b.contact != RigidContact::stick && b.friction > 0;
-    });
-    for (const PairLaw& p : sc.contact.pair)
-      friction =
-          friction || p.law == ContactLaw::binder_layer ||
-          ((p.law == ContactLaw::coulomb || p.law == ContactLaw::adhesion) && (p.friction > 0 || p.adhesion > 0));
-    if (friction)
-      root.optional_table("solver")->fail(
-          "integrator",
-          fmt::format("'{}' is refused with frictional contact (a rigid body or die wall with friction > 0, "
-                      "a coulomb, adhesion or binder_layer law): a block that must stick on a mu = 0.5 "
-                      "plane creeps at 0.7 % of the frictionless slide's speed with usf and musl, and "
-                      "stays with usl (measured 2026-12-05); use \"usl\" or frictionless contact",
-                      sc.settings.integrator == Integrator::usf ? "usf" : "musl"));
-  }
   check_fits(
       gt, "cell_size",
       static_cast<double>(sc.grid.nodes()) *

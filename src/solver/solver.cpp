@@ -119,8 +119,9 @@ void Solver<D>::step(double max_dt) {
       update_stress();
       p2g_forces();
       grid_update();
-      contact(true, true);
+      final_contact();
       finalize_grid_velocities();
+      keep_contact_velocities();  // for the next step's velocity gradient
       g2p();
       break;
     case Integrator::usl:
@@ -144,10 +145,14 @@ void Solver<D>::step(double max_dt) {
       keep_interpolated_momentum();
       contact(true);
       grid_update();
-      contact(true, true);
+      final_contact();
       finalize_grid_velocities();
+      keep_contact_velocities();
       g2p();  // also maps the updated particle momenta back to the grid
       contact(false);
+      // where the final contact pass acted, L takes the step's final velocity (final_contact)
+      for (const auto& [k, v] : contact_vel_) sc_.grid.mom[k] = sc_.grid.mass[k] * v;
+      contact_vel_.clear();
       remap_velocity_gradient();
       update_stress();
       break;
@@ -451,6 +456,41 @@ void Solver<D>::contact(bool record, bool after_update) {
   if (walls_last) rigid_stage(record);
 }
 
+// USF and MUSL take the velocity gradient L from other nodal velocities than those that move the
+// particles: USF from the next step's interpolated momenta after the contact pass that follows
+// P2G, MUSL from the updated particle momenta mapped back to the grid after a contact pass of their
+// own. In the bulk the two agree to O(dt); at a contact node they need not: the particles there
+// moved with the velocity this final pass set (a stuck field at the wall's velocity, a pressed one
+// with no normal approach), while the interpolated or remapped momenta carry the particle
+// velocities, which near the interface hold the interior's motion, and a second pass of the law
+// cannot restore the constraint: without the step's forces its Coulomb cap (mu times the
+// interpolated approach) is nearly zero on a resting contact. L then saw a stuck field slip and a
+// pressed one separate, and the stress a deformation the particles never made: on the inclined
+// plane (20 deg, mu 0.5) a grid-scale vibration grew to 0.07 m/s rms and the block crept at
+// 0.07 m/s, 2.9-3.0 % of a frictionless slide in 10 us (USL: 0.13-0.20 %). Where this pass changed a
+// field's momentum L therefore takes the final velocity (as USL does everywhere): MUSL within the
+// step, USF at the next step, whose L stands for its start (0.18-0.27 %; docs/theory/engine.md,
+// "Contact nodes in USF and MUSL").
+template <int D>
+void Solver<D>::final_contact() {
+  auto& g = sc_.grid;
+  const long nd = static_cast<long>(sc_.deformable_fields) * g.nodes();
+  // the momenta before the pass, in vel (free until finalize_grid_velocities; contact reads only
+  // mass, momentum and the sums P2G made)
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < nd; ++k) g.vel[k] = g.mom[k];
+  contact(true, true);
+  contact_vel_.clear();
+  for (long k = 0; k < nd; ++k)
+    if (g.mass[k] > mass_eps_ && g.mom[k] != g.vel[k]) contact_vel_.emplace_back(k, Vec<D>::Zero());
+}
+
+// After finalize_grid_velocities: the final velocities of the node-fields final_contact listed.
+template <int D>
+void Solver<D>::keep_contact_velocities() {
+  for (auto& [k, v] : contact_vel_) v = sc_.grid.vel[k];
+}
+
 template <int D>
 void Solver<D>::rigid_stage(bool record) {
   if (!sc_.bodies.empty()) {
@@ -630,6 +670,9 @@ void Solver<D>::velocity_gradient_impl() {
   const long nd = static_cast<long>(sc_.deformable_fields) * nn;
 #pragma omp parallel for schedule(static)
   for (long k = 0; k < nd; ++k) g.vel[k] = g.mass[k] > mass_eps_ ? Vec<D>(g.mom[k] / g.mass[k]) : Vec<D>::Zero();
+  // where the last step's final contact pass acted: its velocity (final_contact)
+  for (const auto& [k, v] : contact_vel_)
+    if (g.mass[k] > mass_eps_) g.vel[k] = v;
   const long np = static_cast<long>(P.size());
 #pragma omp parallel for schedule(static)
   for (long p = 0; p < np; ++p) {

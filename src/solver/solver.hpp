@@ -54,6 +54,13 @@ class Solver {
   };
   State state() const { return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_}; }
   void restore(const State& s);  // also moves the rigid bodies and re-locates the particles
+  // USF: the node-fields the last step's final contact pass acted on (grid.at(field, node)) and
+  // their final velocities, which the next step's velocity gradient takes there (final_contact in
+  // solver.cpp); part of a USF run's state, saved in its checkpoints. Empty for USL, and for MUSL
+  // between steps.
+  using ContactVelocities = std::vector<std::pair<long, Vec<D>>>;
+  const ContactVelocities& contact_velocities() const { return contact_vel_; }
+  void restore_contact_velocities(ContactVelocities cv) { contact_vel_ = std::move(cv); }
 
   // Stages (public so tests can drive them one by one).
   double stable_time_step() const;
@@ -103,6 +110,10 @@ class Solver {
   template <Kernel K>
   void particle_pass_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
+  // USF and MUSL: the contact pass after the grid update, which also lists the node-fields it
+  // changed (contact_vel_), and, after finalize_grid_velocities, their final velocities.
+  void final_contact();
+  void keep_contact_velocities();
   Scatter<D> scatter(bool mass_momentum, bool forces);
   void setup_strips();
   void locate_particles();
@@ -137,6 +148,9 @@ class Solver {
   bool static_nodes_listed_ = false;
   ContactTally<D> contact_tally_;
   StageClock clock_;
+  // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with
+  // their final velocities
+  ContactVelocities contact_vel_;
 };
 
 }  // namespace pbx

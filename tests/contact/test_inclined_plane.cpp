@@ -19,7 +19,6 @@
 #include <gtest/gtest.h>
 
 #include "../engine/scene_fixture.hpp"
-#include "core/error.hpp"
 
 using namespace pbx;
 
@@ -168,27 +167,21 @@ TEST(InclinedPlane, RigidPlaneSlidesAtCoulombAccelerationOrSticks) { check(Plane
 
 TEST(InclinedPlane, FieldPlaneSlidesAtCoulombAccelerationOrSticks) { check(Plane::field, "field"); }
 
-// The other integrators: frictionless, the block slides at g sin(theta) on both planes (contact
-// with USF and MUSL against a closed form); with friction they are refused, because a block that
-// must stick creeps: measured before the refusal (30 us, 20 deg, mu 0.5, rigid plane) at a steady
-// 0.07 m/s with usf and musl against |v| < 3e-6 m/s with usl, and 2.9-3.0 % of a frictionless
-// slide's distance after 10 us on either plane (usl: 0.13 %).
-TEST(InclinedPlane, UsfAndMuslSlideFrictionlessAtGSinThetaAndAreRefusedWithFriction) {
+// The other integrators pass the same checks. USF and MUSL take the velocity gradient from other
+// nodal velocities than those that move the particles; until they took the final contact pass's
+// velocities at the nodes that pass acted on (solver.cpp, final_contact), a block that must stick
+// crept (20 deg, mu 0.5: 2.85 % of a frictionless slide on the rigid plane and 2.99 % on the field
+// plane, now 0.18 % and 0.27 %; usl 0.13 % and 0.20 %), and a sliding block booked up to 14 % less
+// frictional work than mu N d and slid up to 3 % slow. Frictionless, they slide at g sin(theta).
+TEST(InclinedPlane, UsfAndMuslSlideAtCoulombAccelerationOrStick) {
   for (const char* integrator : {"usf", "musl"}) {
+    check(Plane::rigid, "rigid", integrator);
+    check(Plane::field, "field", integrator);
     for (const Plane plane : {Plane::rigid, Plane::field}) {
       const Slide s = slide(plane, 35.0 * M_PI / 180.0, 0.0, integrator);
       const double a = kG * std::sin(35.0 * M_PI / 180.0);
       EXPECT_NEAR(s.accel, a, 0.02 * a) << integrator << (plane == Plane::rigid ? " rigid" : " field");
       EXPECT_LT(std::abs(s.friction_work), 1e-12) << integrator;
-      try {
-        test::scene_from(deck(plane, 20.0 * M_PI / 180.0, 0.5, integrator));
-        ADD_FAILURE() << integrator << ": friction accepted";
-      } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("solver.integrator: '" + std::string(integrator) +
-                                             "' is refused with frictional contact"),
-                  std::string::npos)
-            << e.what();
-      }
     }
   }
 }
