@@ -111,6 +111,38 @@ std::vector<Phase> phases_of(const StudyRun& r, const StudyFitOptions& opt, std:
   return paper_phases(phi);
 }
 
+// Hashin-Shtrikman bounds of one run's phases, with and without its pores (the pore-free composite
+// compares with the paper's G^U, K^U), the phases themselves and where they come from.
+Json bounds_json(const StudyRun& r, const StudyFitOptions& opt) {
+  std::string source;
+  const std::vector<Phase> ph = phases_of(r, opt, source);
+  Json b = Json::object();
+  b["run"] = r.id;
+  b["phases_source"] = source;
+  Json phases = Json::array();
+  for (const auto& p : ph) {
+    Json e = Json::object();
+    e["name"] = p.name;
+    e["K_Pa"] = p.bulk_modulus;
+    e["G_Pa"] = p.shear_modulus;
+    e["volume_fraction"] = p.volume_fraction;
+    phases.push_back(std::move(e));
+  }
+  b["phases"] = phases;
+  b["with_pores"] = hs_json(hashin_shtrikman_bounds(ph));
+  std::vector<Phase> solid;
+  double fs_sum = 0;
+  for (const auto& p : ph) {
+    if (p.bulk_modulus > 0 || p.shear_modulus > 0) {
+      solid.push_back(p);
+      fs_sum += p.volume_fraction;
+    }
+  }
+  for (auto& p : solid) p.volume_fraction /= fs_sum;
+  b["pore_free"] = hs_json(hashin_shtrikman_bounds(solid));
+  return b;
+}
+
 }  // namespace
 
 std::string default_paper_values_path() { return report_file("paper_values.toml"); }
@@ -294,15 +326,32 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
       stats[q.name] = ensemble_stat(v).to_json();
     }
     e["stats"] = stats;
+    // the bounds of the condition's own materials (its first run): conditions may differ in
+    // material (a stiffer binder), temperature and porosity
+    e["hashin_shtrikman"] = bounds_json(*c.runs.front(), opt);
     cj.push_back(e);
   }
   out["conditions"] = cj;
 
-  // Eq. 13 on the temperature group (all seeds as individual points).
+  // The paper's fits need its sweeps: study groups named "temperature" and "density" (as
+  // examples/paper/*.toml; a hand-made study.json without groups counts for both). A study without
+  // them (its own question: groups "reference" and "binder_x2") gets none of the paper's fits, and
+  // each note says so instead of "0 points".
   auto in_group = [&](const StudyRun& r, const char* g) {
     const std::string rg = group_of(r);
     return rg == g || rg.empty();
   };
+  Json sweeps = Json::object();
+  for (const char* g : {"temperature", "density"}) {
+    sweeps[g] = int(std::count_if(runs.begin(), runs.end(), [&](const StudyRun& r) { return in_group(r, g); }));
+  }
+  out["paper_sweeps"] = sweeps;
+  const bool has_T = json_number(*json_find(sweeps, "temperature")) > 0;
+  const bool has_rho = json_number(*json_find(sweeps, "density")) > 0;
+  const std::string no_T = "the study has no 'temperature' group (the paper's sweep over temperature)";
+  const std::string no_rho = "the study has no 'density' group (the paper's sweep over density)";
+
+  // Eq. 13 on the temperature group (all seeds as individual points).
   std::vector<double> T, sc;
   for (const auto& r : runs) {
     if (!in_group(r, "temperature")) continue;
@@ -325,7 +374,7 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     eq13["nonlinear"] = fit_temperature_law_nonlinear(T, sc, opt.T0_K, opt.confidence).to_json();
     eq13["loglinear"] = fit_temperature_law_loglinear(T, sc, opt.T0_K, opt.confidence).to_json();
   } else {
-    eq13["note"] = "fewer than 2 temperatures: Eq. 13 not fitted";
+    eq13["note"] = has_T ? "fewer than 2 temperatures: Eq. 13 not fitted" : no_T + ": Eq. 13 not fitted";
   }
   out["eq13"] = eq13;
 
@@ -354,7 +403,8 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
   if (ep.size() >= 4) {
     eq14["fit"] = fit_normalized_curve(ep, sn, opt.confidence).to_json();
   } else {
-    eq14["note"] = fmt::format("{} points at T0 = {} K in the Eq. 14 window: not fitted", ep.size(), opt.T0_K);
+    eq14["note"] = has_T ? fmt::format("{} points at T0 = {} K in the Eq. 14 window: not fitted", ep.size(), opt.T0_K)
+                         : no_T + ": Eq. 14 not fitted";
   }
   out["eq14"] = eq14;
 
@@ -395,31 +445,17 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     hsj["G"] = fit_density_law(rho, Gs, rho0, opt.GU, opt.confidence).to_json();
     hsj["K"] = fit_density_law(rho, Ks, rho0, opt.KU, opt.confidence).to_json();
   } else {
-    hsj["note"] = "fewer than 2 density conditions: Eq. 19-22 not fitted";
-  }
-  // Bounds from the run's own phases (first run), and for the pore-free composite (compare G^U, K^U).
-  if (!runs.empty()) {
-    std::string source;
-    std::vector<Phase> ph = phases_of(runs.front(), opt, source);
-    Json b = Json::object();
-    b["phases_source"] = source;
-    b["run"] = runs.front().id;
-    b["with_pores"] = hs_json(hashin_shtrikman_bounds(ph));
-    std::vector<Phase> solid;
-    double fs_sum = 0;
-    for (const auto& p : ph) {
-      if (p.bulk_modulus > 0 || p.shear_modulus > 0) {
-        solid.push_back(p);
-        fs_sum += p.volume_fraction;
-      }
-    }
-    for (auto& p : solid) p.volume_fraction /= fs_sum;
-    b["pore_free"] = hs_json(hashin_shtrikman_bounds(solid));
-    hsj["bounds"] = b;
+    hsj["note"] = has_rho ? "fewer than 2 density conditions: Eq. 19-22 not fitted" : no_rho + ": Eq. 19-22 not fitted";
   }
   out["density_law"] = hsj;
-  out["paper_table3_refit"] =
-      paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence);
+  if (has_T) {
+    out["paper_table3_refit"] =
+        paper_table3_refit(opt.paper_values.empty() ? default_paper_values_path() : opt.paper_values, opt.confidence);
+  } else {
+    Json refit = Json::object();
+    refit["note"] = no_T + ": the paper's Table 3 is not refitted";
+    out["paper_table3_refit"] = refit;
+  }
   return out;
 }
 

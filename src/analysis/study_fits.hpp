@@ -1,7 +1,8 @@
 #pragma once
 // Study-level results: every run of STUDY/study.json analysed, ensemble statistics per condition
 // (mean +- std over seeds), and the paper's constitutive fits (Eq. 13-15, 19-22) with confidence
-// intervals, plus Hashin-Shtrikman bounds. Written to fits.json for the report.
+// intervals where the study has the paper's sweeps, plus Hashin-Shtrikman bounds per condition.
+// Written to fits.json for the report.
 #include <functional>
 #include <optional>
 #include <string>

@@ -68,6 +68,40 @@ fs::path make_study(const std::string& name, bool study_format = false) {
   return dir;
 }
 const ReportOptions kOptions;
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// A study of the user's own question, as examples/own/binder_stiffer.toml writes it: groups
+// "reference" and "binder_x2" at 293 K and porosity 0.08, two seeds each, none of the paper's sweeps.
+// The stiffer binder raises K and G by 60 % (as the 40 um runs do).
+fs::path make_own_study(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("pbx_test_own_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "runs");
+  std::string runs;
+  for (const char* group : {"reference", "binder_x2"}) {
+    for (int seed : {1, 2}) {
+      const double f = std::string(group) == "binder_x2" ? 1.6 : 1.0;
+      test::SyntheticRun s;
+      s.K = f * (1.27e9 + 0.02e9 * seed);
+      s.G = f * (1.09e9 - 0.01e9 * seed);
+      s.strength_scale = f * 46.7e6;
+      s.group = group;
+      s.seed = seed;
+      s.rows = 241;
+      const std::string value = std::string(group) == "binder_x2" ? "0.54 GPa" : "293 K";
+      const std::string id = fmt::format("{}-{}-s{}", group, value == "293 K" ? "293K" : "0.54GPa", seed);
+      test::write_synthetic_run(dir / "runs" / id, s);
+      runs += fmt::format(R"({}{{"id": "{}", "dir": "runs/{}", "group": "{}", "value": "{}", "seed": {}}})",
+                          runs.empty() ? "" : ",\n  ", id, id, group, value, seed);
+    }
+  }
+  std::ofstream(dir / "study.json") << "{\"name\": \"own\", \"runs\": [\n  " << runs << "]}\n";
+  return dir;
+}
 }  // namespace
 
 // `cmake --install` puts pbxmpm in P/bin and the report's files in P/share/pbxmpm/report: the
@@ -114,13 +148,20 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
                         "fig8_moduli_vs_density.png",
                         "fig9_density_law.png",
                         "fig9_density_law.svg",
+                        "hashin_shtrikman_bounds.csv",
                         "trends.csv"}) {
     EXPECT_TRUE(fs::exists(dir / "report" / f)) << f;
   }
-  std::ifstream md(dir / "report" / "report.md");
-  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  const std::string text = read_text(dir / "report" / "report.md");
   EXPECT_NE(text.find("2.357"), std::string::npos);
   EXPECT_NE(text.find("reproduced by neither"), std::string::npos);
+  // the study has both of the paper's sweeps: its sections are all there, and no line says one is absent
+  for (const char* section :
+       {"## Temperature (porosity 0.08)", "## Density (293 K)", "## Fitted constants",
+        "### Refit of the paper's own Table 3", "## Macroscale model card", "| paper (its ref. 41) |"}) {
+    EXPECT_NE(text.find(section), std::string::npos) << section;
+  }
+  EXPECT_EQ(text.find("Not in this report"), std::string::npos);
   // the synthetic runs carry the paper's own Table 2-3 and Eq. 21-22 numbers, so every trend the
   // paper reports must come out its way (a sign or ordering error in the trend table says "no")
   const auto trends = text.find("## The paper's trends, measured");
@@ -274,5 +315,62 @@ TEST(StudyReport, QuickStudyReportReadsWholeInABrowser) {
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("\"images\": 8"), std::string::npos) << out;  // the quick study's eight figures
   EXPECT_TRUE(fs::file_size(dir / "report" / "browser.png") > 10000) << out;
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+// A study of the user's own question (no 'temperature' or 'density' group) gets no empty paper
+// sections: no fitted-constants table, no "eq14: 0 points" line, no refit of the paper's Table 3,
+// no model-card line, no paper row beside the bounds, but one line saying why they are absent. The
+// Hashin-Shtrikman bounds are each condition's own: here the stiffer binder raises the lower bounds
+// (they once came from the study's first run for every group).
+TEST(StudyReport, OwnStudyGetsNoEmptyPaperSectionsAndBoundsPerCondition) {
+  const fs::path dir = make_own_study("sections");
+  ReportOptions opt;
+  opt.fits.run_phases = [](const StudyRun& r, std::string& source) {
+    const double binder_G = r.id.rfind("binder_x2", 0) == 0 ? 0.14e9 : 0.07e9;
+    source = "test phases";
+    return std::vector<Phase>{
+        {10.59e9, 11.5e9, 0.879, "tatb"}, {4 * binder_G, binder_G, 0.042, "f2314"}, {0, 0, 0.079, "pores"}};
+  };
+  build_report(dir.string(), opt);
+  const fs::path rep = dir / "report";
+  const std::string text = read_text(rep / "report.md");
+  for (const char* f : {"report.md", "conditions.csv", "ratios_within_groups.csv", "hashin_shtrikman_bounds.csv"}) {
+    EXPECT_TRUE(fs::exists(rep / f)) << f;
+  }
+  for (const char* f : {"fitted_constants.csv", "trends.csv", "table2_moduli_vs_temperature.csv",
+                        "moduli_vs_density.csv", "model_card.json", "fig5_normalized_curves.png"}) {
+    EXPECT_FALSE(fs::exists(rep / f)) << f;
+  }
+  for (const char* empty : {"Fitted constants", "eq13:", "eq14:", "density_law:", "0 points", "Refit of the paper",
+                            "Model card", "paper (its ref. 41)", "Paper values are from"}) {
+    EXPECT_EQ(text.find(empty), std::string::npos) << empty << "\n" << text;
+  }
+  EXPECT_NE(text.find("Not in this report, as the study does not have the paper's conditions"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("This study's groups: reference, binder_x2"), std::string::npos) << text;
+  // fits.json says why each paper fit is absent
+  const Json fits = json_read_file((rep / "fits.json").string());
+  EXPECT_NE(json_string(*json_find(*json_find(fits, "eq14"), "note")).find("no 'temperature' group"),
+            std::string::npos);
+  EXPECT_EQ(json_find(*json_find(fits, "paper_table3_refit"), "nonlinear"), nullptr);
+  // one row of bounds per condition, from its own first run
+  const auto& conds = json_array(*json_find(fits, "conditions"));
+  ASSERT_EQ(conds.size(), 2u);
+  auto K_lower = [&](std::size_t i) {
+    const Json& b = *json_find(conds[i], "hashin_shtrikman");
+    return json_number(*json_find(*json_find(b, "pore_free"), "K_lower_Pa"));
+  };
+  EXPECT_EQ(json_string(*json_find(*json_find(conds[1], "hashin_shtrikman"), "run")), "binder_x2-0.54GPa-s1");
+  EXPECT_GT(K_lower(1), 1.3 * K_lower(0));
+  std::ifstream csv(rep / "hashin_shtrikman_bounds.csv");
+  std::string line;
+  std::vector<std::string> rows;
+  std::getline(csv, line);
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("reference,293 K,reference-293K-s1,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("binder_x2,0.54 GPa,binder_x2-0.54GPa-s1,", 0), 0u) << rows[1];
+  EXPECT_NE(rows[1].find("f2314 0.56/0.14, 0.042"), std::string::npos) << rows[1];
   if (!HasFailure()) fs::remove_all(dir);
 }

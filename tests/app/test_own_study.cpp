@@ -3,7 +3,9 @@
 // (24 s), and its report answers the question in the per-condition table. With the binder on every
 // grain-to-grain load path (binder_layer) doubling its moduli must raise E well above the
 // reference; the earlier direct-contact model moved E by 1 % (the test would fail there).
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -71,6 +73,22 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   EXPECT_NEAR(std::stod(line.substr(at + 1)), E["binder_x2"] / E["reference"], 0.01 * E["binder_x2"] / E["reference"])
       << line;
   EXPECT_NE(line.find("one seed"), std::string::npos) << line;
+  // the study has none of the paper's sweeps: no empty paper sections, one line saying why, and the
+  // Hashin-Shtrikman bounds of each group's own materials (the doubled binder raises the lower K bound)
+  std::ifstream md(dir / "s" / "report" / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  for (const char* empty : {"Fitted constants", "eq14:", "0 points", "Refit of the paper", "Model card"})
+    EXPECT_EQ(text.find(empty), std::string::npos) << empty;
+  EXPECT_NE(text.find("Not in this report"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "s" / "report" / "fitted_constants.csv"));
+  std::ifstream hs(dir / "s" / "report" / "hashin_shtrikman_bounds.csv");
+  std::vector<std::string> rows;
+  std::getline(hs, line);
+  while (std::getline(hs, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("reference,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("binder_x2,", 0), 0u) << rows[1];
+  EXPECT_NE(rows[1].find("f2314 0.54/"), std::string::npos) << rows[1];  // its own binder's K0
 }
 
 // Every "your own study" example deck is a valid study: each run's deck builds and its specimen

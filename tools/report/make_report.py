@@ -62,6 +62,12 @@ def ratio(ours, paper):
     return ours / paper
 
 
+# every table the report may write (as NAME.csv), removed before a report is written again
+REPORT_TABLES = ("conditions", "ratios_within_groups", "run_checks", "table2_moduli_vs_temperature",
+                 "table3_strength_vs_temperature", "moduli_vs_density", "trends", "fitted_constants",
+                 "hashin_shtrikman_bounds")
+
+
 class Report:
     """Collects sections, then writes report.md and report.html from the same content."""
 
@@ -76,6 +82,7 @@ class Report:
         self.blocks.append(("p", text))
 
     def table(self, name, header, rows, caption):
+        assert name in REPORT_TABLES, f"{name}: add it to REPORT_TABLES (so that a stale copy is removed)"
         with open(os.path.join(self.out, name + ".csv"), "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(header)
@@ -368,6 +375,44 @@ def trend_section(rep, tconds, dconds, p2, p3, phs):
                   "conditions (Table 2-3; for density its Eq. 21-22, E from them; strength vs density: no table)")
 
 
+def hs_section(rep, conds, phs, paper_conditions):
+    """Hashin-Shtrikman bounds of every condition from its own materials (its first run: conditions
+    may differ in material, temperature and porosity), beside the paper's G^U, K^U where the study has
+    the paper's conditions (they are bounds of the paper's materials)."""
+    rows = []
+    fallback = []
+    for c in conds:
+        b = c.get("hashin_shtrikman")
+        if not b:
+            continue
+        phases = "; ".join(f"{p.get('name', '?')} {fmt(get(p, 'K_Pa') / 1e9, 3)}/{fmt(get(p, 'G_Pa') / 1e9, 3)}, "
+                           f"{fmt(get(p, 'volume_fraction'), 3)}" for p in b.get("phases", []))
+        if str(b.get("phases_source", "")).startswith("the paper's Table 1"):
+            fallback.append(f"{b.get('run', '?')}: {b['phases_source']}")
+        rows.append([c.get("group", ""), str(c.get("value", "")).strip("'"), b.get("run", ""), phases,
+                     get(b, "pore_free", "K_upper_Pa") / 1e9, get(b, "pore_free", "G_upper_Pa") / 1e9,
+                     get(b, "pore_free", "K_lower_Pa") / 1e9, get(b, "pore_free", "G_lower_Pa") / 1e9,
+                     get(b, "with_pores", "K_upper_Pa") / 1e9, get(b, "with_pores", "G_upper_Pa") / 1e9])
+    if not rows:
+        rep.p("Hashin-Shtrikman bounds not computed: fits.json has no per-condition bounds (an older pbxmpm; "
+              "run `pbxmpm report` again).")
+        return
+    if paper_conditions:
+        rows.append(["paper (its ref. 41)", "", "", "the paper's materials", phs["KU_GPa"], phs["GU_GPa"], NAN, NAN,
+                     NAN, NAN])
+    rep.h("Hashin-Shtrikman bounds")
+    rep.table("hashin_shtrikman_bounds",
+              ["group", "value", "run", "phases (K/G GPa, volume fraction)", "K_upper_GPa", "G_upper_GPa",
+               "K_lower_GPa", "G_lower_GPa", "K_upper_with_pores_GPa", "G_upper_with_pores_GPa"], rows,
+              "Hashin-Shtrikman bounds of each condition from its own materials (its first run's phases: each material "
+              "probed at the run temperature after the loading time to the middle of the linear window, volume "
+              "fractions from the particle counts and the porosity; docs/theory/analysis.md §8): K and G bounds of "
+              "the pore-free composite, and the upper bounds with the run's pores (the lower ones are 0)" +
+              ("; last row, the paper's G^U, K^U (its materials, its ref. 41)" if paper_conditions else ""))
+    if fallback:
+        rep.p("The paper's Table 1 phases stand in for: " + "; ".join(fallback))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("study")
@@ -380,6 +425,12 @@ def main():
     with open(args.paper_values, "rb") as f:
         paper = tomllib.load(f)
 
+    # the files an earlier report wrote and this one may not (a paper section this study lacks) go first
+    for old in (glob.glob(os.path.join(out, "fig[0-9]*_*.png")) + glob.glob(os.path.join(out, "fig[0-9]*_*.svg")) +
+                [os.path.join(out, n + ".csv") for n in REPORT_TABLES] +
+                [os.path.join(out, n) for n in ("model_card.json", "model_card_curves.csv")]):
+        if os.path.isfile(old):
+            os.remove(old)
     rep = Report(out)
     conds = fits.get("conditions", [])
     tconds = sorted([c for c in conds if c.get("group") in ("temperature", "")], key=lambda c: c["temperature_K"])
@@ -388,6 +439,7 @@ def main():
     truns = [r for r in runs if run_group(r) in ("temperature", "")]
     druns = [r for r in runs if run_group(r) in ("density", "")]
     T0 = get(fits, "eq13", "T0_K", default=293.0)
+    groups_of_study = list(dict.fromkeys(c.get("group", "") or "(none)" for c in conds))
     nseeds = max([len(c.get("runs", [])) for c in conds] or [1])
 
     left_out = fits.get("missing_runs", [])
@@ -404,9 +456,11 @@ def main():
     rep.p(f"Study '{study.get('name', '?')}': {count(len(runs), 'run', 'runs')}, "
           f"{count(len(conds), 'condition', 'conditions')}, up to {count(nseeds, 'seed', 'seeds')} "
           f"per condition; {'code version' if len(versions) == 1 else 'code versions'}: {', '.join(versions)}. Values are mean ± standard deviation over seeds "
-          f"(std = 0 with one seed). Fitted constants carry {100 * fits.get('confidence', 0.95):.0f} % confidence "
-          "intervals (Student t on the linearised covariance). Paper values are from its Tables 2-3 and Eq. 13-22 "
-          "(tools/report/paper_values.toml); ratio = ours / paper. Definitions: docs/theory/analysis.md.")
+          "(std = 0 with one seed). " +
+          (f"Fitted constants carry {100 * fits.get('confidence', 0.95):.0f} % confidence "
+           "intervals (Student t on the linearised covariance). Paper values are from its Tables 2-3 and Eq. 13-22 "
+           "(tools/report/paper_values.toml); ratio = ours / paper. " if truns or druns else "") +
+          "Definitions: docs/theory/analysis.md.")
 
     # ---- a few lines on top: how the runs went, and ours against the paper where comparable ----
     flagged = [r["id"] for r in runs if get(r["a"], "quasi_static", "flagged", default=False)]
@@ -575,6 +629,19 @@ def main():
             rep.p(f"Fig. 1b skipped: could not read the last snapshot of {snap_run['id']} ({exc}).")
     else:
         rep.p("Fig. 1b skipped: no run has snapshots/snap_*.h5.")
+
+    # ---- the paper's sections only where the study has the paper's sweeps, else one line why ----
+    absent = []
+    if not truns:
+        absent.append("the temperature sections (Tables 2-3, Fig. 2-6, Eq. 13-15, the refit of the paper's Table 3 "
+                      "and the model card) need a study group named 'temperature', the paper's sweep over temperature "
+                      "at porosity 0.08")
+    if not druns:
+        absent.append("the density sections (Fig. 7-9, Eq. 19-22) need a group named 'density', the paper's sweep "
+                      "over porosity at 293 K")
+    if absent:
+        rep.p("Not in this report, as the study does not have the paper's conditions: " + "; ".join(absent) +
+              f". This study's groups: {', '.join(groups_of_study)} (the paper's sweeps: examples/paper/quick.toml).")
 
     # ---- temperature group ----
     p2 = {(t["T_K"], t["source"]): t for t in paper.get("table2", [])}
@@ -807,8 +874,8 @@ def main():
     # ---- the paper's trends, one by one ----
     trend_section(rep, tconds, dconds, p2, p3, phs)
 
-    # ---- fitted constants ----
-    rep.h("Fitted constants")
+    # ---- fitted constants (the paper's Eq. 13-14 on its temperature sweep, Eq. 19-22 on its density
+    # sweep): a study without those sweeps has none, and the line above says why ----
     rows = []
 
     unconverged = []
@@ -835,12 +902,18 @@ def main():
     for lab in ("G", "K"):
         add(f"Eq. {21 if lab == 'G' else 22} k ({lab})", hs.get(lab), "k", phs[lab + "_k"])
         add(f"Eq. {21 if lab == 'G' else 22} n ({lab})", hs.get(lab), "n", phs[lab + "_n"])
-    rep.table("fitted_constants", ["constant", "ours", "ci_low", "ci_high", "paper", "ratio", "unit", "method"], rows,
-              f"Fitted constants with {100 * fits.get('confidence', 0.95):.0f} % confidence intervals beside the paper's")
+    if truns or druns:
+        rep.h("Fitted constants")
+    if rows:
+        rep.table("fitted_constants", ["constant", "ours", "ci_low", "ci_high", "paper", "ratio", "unit", "method"],
+                  rows, f"Fitted constants with {100 * fits.get('confidence', 0.95):.0f} % confidence intervals beside "
+                  "the paper's")
     if unconverged:
         rep.p("WARNING: these fits did not converge, and their constants are not results: " + "; ".join(unconverged))
-    for key in ("eq13", "eq14", "density_law"):
-        if get(fits, key, "note", default=None):
+    # why a fit of a sweep the study has is missing (too few temperatures, ...); the sweeps it does not
+    # have are named once, above
+    for key, present in (("eq13", truns), ("eq14", truns), ("density_law", druns)):
+        if present and get(fits, key, "note", default=None):
             rep.p(f"{key}: {fits[key]['note']}")
     if get(fits, "eq14", "fit", default=None):
         rep.p(f"Eq. 14 is fitted at T0 = {T0:.0f} K on the plateau window {w[0]}-{w[1]} % strain with strain in percent "
@@ -851,24 +924,14 @@ def main():
               "A, B and n within about 1 %.")
 
     refit = fits.get("paper_table3_refit", {})
-    if refit.get("nonlinear"):
+    if truns and refit.get("nonlinear"):
         nl, ll = refit["nonlinear"], refit["loglinear"]
         rep.h("Refit of the paper's own Table 3 (Eq. 13)", 3)
         rep.p(f"Nonlinear least squares on σc gives σ0 = {par(nl, 'sigma0') / 1e6:.2f} MPa, α = {par(nl, 'alpha'):.3f}; "
               f"the log-linear fit gives σ0 = {par(ll, 'sigma0') / 1e6:.2f} MPa, α = {par(ll, 'alpha'):.3f}. "
               + refit_verdict(nl, ll, pf))
 
-    b = hs.get("bounds")
-    if b:
-        rep.h("Hashin-Shtrikman bounds", 3)
-        rows = [["pore-free composite (ours)", get(b, "pore_free", "K_upper_Pa") / 1e9, get(b, "pore_free", "G_upper_Pa") / 1e9,
-                 get(b, "pore_free", "K_lower_Pa") / 1e9, get(b, "pore_free", "G_lower_Pa") / 1e9],
-                ["with the run's pores (ours)", get(b, "with_pores", "K_upper_Pa") / 1e9, get(b, "with_pores", "G_upper_Pa") / 1e9,
-                 get(b, "with_pores", "K_lower_Pa") / 1e9, get(b, "with_pores", "G_lower_Pa") / 1e9],
-                ["paper (its ref. 41)", phs["KU_GPa"], phs["GU_GPa"], NAN, NAN]]
-        rep.table("hashin_shtrikman_bounds", ["case", "K_upper_GPa", "G_upper_GPa", "K_lower_GPa", "G_lower_GPa"], rows,
-                  f"Hashin-Shtrikman bounds from {b.get('phases_source', '?')} (run {b.get('run', '?')}) beside the "
-                  "paper's G^U, K^U")
+    hs_section(rep, conds, phs, paper_conditions=bool(truns or druns))
 
     # ---- model card ----
     f13 = get(fits, "eq13", "nonlinear", default=None)
@@ -914,7 +977,7 @@ def main():
         rep.h("Macroscale model card")
         rep.p("model_card.json holds the fitted Eq. 15 (and the density law) with intervals and validity ranges; "
               "model_card_curves.csv tabulates stress (Pa) against strain (fraction) for each simulated temperature.")
-    else:
+    elif truns:
         rep.p("Model card not written: Eq. 13 or Eq. 14 could not be fitted from this study.")
 
     rep.write(f"pbxmpm report: {study.get('name', os.path.basename(os.path.abspath(args.study)))}" +
