@@ -13,6 +13,7 @@
 #include "core/parse_number.hpp"
 #include "io/atomic_write.hpp"
 #include "io/json.hpp"
+#include "microstructure/bitmap_text.hpp"
 #include "microstructure/packing.hpp"
 #include "microstructure/phase_map.hpp"
 #include "microstructure/png_image.hpp"
@@ -26,7 +27,24 @@ namespace {
 constexpr std::uint8_t kPalette[][3] = {{240, 200, 60}, {230, 140, 50},  {200, 220, 90}, {250, 225, 140},
                                         {215, 170, 90}, {245, 180, 110}, {190, 190, 60}, {255, 210, 170}};
 
-constexpr double kScaleBar = 100e-6;  // m
+// Scale-bar length: the largest 1, 2 or 5 x 10^k um not over 15 % of the box width (100 um for the
+// paper's 1 mm wide box).
+double scale_bar_um(const Packing& p) {
+  const double limit_um = 0.15 * p.box.x() * 1e6;
+  double best = 1;
+  for (int k = -3; std::pow(10.0, k) <= limit_um; ++k)  // pow: exact powers of ten, 100 and not 100.00000000000001
+    for (double m : {1.0, 2.0, 5.0})
+      if (m * std::pow(10.0, k) <= limit_um * (1 + 1e-12)) best = m * std::pow(10.0, k);
+  return best;
+}
+
+constexpr std::uint8_t kBinder[3] = {30, 90, 40}, kBlack[3] = {0, 0, 0}, kWhite[3] = {255, 255, 255};
+
+void fill(RgbImage& img, int x0, int y0, int w, int h, const std::uint8_t rgb[3]) {
+  for (int j = std::max(0, y0); j < std::min(img.height, y0 + h); ++j)
+    for (int i = std::max(0, x0); i < std::min(img.width, x0 + w); ++i)
+      std::copy_n(rgb, 3, &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)]);
+}
 
 RgbImage picture(const Packing& p) {
   const double px = p.box.maxCoeff() / 1200.0;
@@ -43,17 +61,49 @@ RgbImage picture(const Packing& p) {
         const int col = p.grains[h.grain].colour;
         std::copy_n(kPalette[col % 8], 3, c);
       } else if (h.phase == MesoPhase::binder) {
-        c[0] = 30, c[1] = 90, c[2] = 40;
+        std::copy_n(kBinder, 3, c);
       }
     }
-  // Scale bar below the specimen (a picture without one cannot be read against a micrograph):
-  // kScaleBar long, black, in a white strip under the box; packing.json names its length.
-  const int strip = 40, bar_px = static_cast<int>(std::lround(kScaleBar / px));
-  img.rgb.resize(static_cast<std::size_t>(img.width) * (img.height + strip) * 3, 255);
-  for (int j = img.height + 16; j < img.height + 24; ++j)
-    for (int i = 20; i < std::min(img.width, 20 + bar_px); ++i)
-      std::fill_n(&img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)], 3, std::uint8_t{0});
-  img.height += strip;
+  // Below the box, a white strip (a picture without a scale cannot be read against a micrograph):
+  // first a black scale bar, 8 px thick, from 20 px from the left and 17 px below the box, with its
+  // length written 10 px to its right (text cells from 12 px below the box); then the legend, a
+  // swatch with a black rim and its label per phase, in lines of 28 px (text at scale 2; scale 1 in
+  // a picture narrower than 600 px), wrapping where the picture ends.
+  const int box_h = img.height, scale = img.width >= 600 ? 2 : 1;
+  const int cell = std::max(kGlyphRows * scale, 18), line = cell + 10, gap = 24, swatch = 18;
+  const double bar_um = scale_bar_um(p);
+  const int bar_px = static_cast<int>(std::lround(bar_um * 1e-6 / px));
+  const std::string bar_label = fmt::format("{:g} \u00b5m", bar_um);
+  const char* labels[] = {"TATB grain (yellow tints)", "binder coat (dark green)", "pore (white)"};
+  struct Item {
+    int x, line, width;
+  };
+  std::vector<Item> items;
+  int x = 20, lines = 1;
+  auto place = [&](int width) {
+    if (x > 20 && x + width > img.width - 10) x = 20, ++lines;
+    items.push_back({x, lines - 1, width});
+    x += width + gap;
+  };
+  place(bar_px + 10 + text_width(bar_label, scale));
+  for (const char* l : labels) place(swatch + 6 + text_width(l, scale));
+  img.height += 12 + lines * line;
+  img.rgb.resize(static_cast<std::size_t>(img.width) * img.height * 3, 255);
+  auto top_of = [&](const Item& it) { return box_h + 12 + it.line * line; };
+  auto text_top = [&](const Item& it) { return top_of(it) + (cell - kGlyphRows * scale) / 2; };
+  fill(img, items[0].x, top_of(items[0]) + 5, bar_px, 8, kBlack);
+  draw_text(img, items[0].x + bar_px + 10, text_top(items[0]), bar_label, scale, kBlack);
+  for (int k = 0; k < 3; ++k) {
+    const Item& it = items[1 + k];
+    const int sy = top_of(it) + (cell - swatch) / 2;
+    fill(img, it.x, sy, swatch, swatch, kBlack);
+    if (k == 0) {  // three of the grain tints side by side
+      for (int t = 0; t < 3; ++t) fill(img, it.x + 1 + 16 * t / 3, sy + 1, 16 / 3 + (t == 2 ? 1 : 0), 16, kPalette[t]);
+    } else {
+      fill(img, it.x + 1, sy + 1, swatch - 2, swatch - 2, k == 1 ? kBinder : kWhite);
+    }
+    draw_text(img, it.x + swatch + 6, text_top(it), labels[k], scale, kBlack);
+  }
   return img;
 }
 
@@ -99,9 +149,10 @@ void write_packing(const Packing& p, const std::string& dir) {
     js["periodic"] = p.periodic;
     js["box_m"] = json_numbers({p.box.x(), p.box.y()});
     js["picture"] = fmt::format(
-        "packing.png: TATB tinted by contact colour, binder dark green, voids white; "
-        "the black bar below the box is {:g} um long",
-        kScaleBar * 1e6);
+        "packing.png: TATB tinted by contact colour (yellow tints), binder dark green, voids white; "
+        "the black bar below the box is {:g} um long (its length written beside it), then a legend",
+        scale_bar_um(p));
+    js["scale_bar_um"] = scale_bar_um(p);
     js["porosity"] = s.porosity;
     js["density_kg_m3"] = s.density;
     js["tmd_kg_m3"] = s.tmd;

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "microstructure/bitmap_text.hpp"
 #include "microstructure/png_image.hpp"
 
 #include "core/error.hpp"
@@ -170,24 +171,103 @@ TEST(Packing, SameSeedGivesByteIdenticalFilesAndReadsBack) {
     EXPECT_EQ(q.grains[i].colour, paper_packing().grains[i].colour);
   }
   EXPECT_NEAR(q.stats.porosity, paper_packing().stats.porosity, 1e-12);
-  // The picture: the box at 1200 px on its long side, then a white strip with a 100 um black bar
-  // (1.2 mm box: 1 px = 1 um, so the bar is 100 px long) starting 20 px from the left.
-  const RgbImage img = read_png((dir / "a" / "packing.png").string());
-  const double px = q.box.maxCoeff() / 1200.0;
-  ASSERT_EQ(img.height, std::lround(q.box.y() / px) + 40);
-  const auto rgb = [&](int i, int j) { return &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)]; };
-  const int bar_row = img.height - 20;
-  int black = 0;
-  for (int i = 0; i < img.width; ++i)
-    black += rgb(i, bar_row)[0] == 0 && rgb(i, bar_row)[1] == 0 && rgb(i, bar_row)[2] == 0;
-  EXPECT_EQ(black, std::lround(100e-6 / px));
-  EXPECT_EQ(rgb(19, bar_row)[0], 255);
-  EXPECT_EQ(rgb(20, bar_row)[0], 0);
-  EXPECT_NE(slurp(dir / "a" / "packing.json").find("bar below the box is 100 um long"), std::string::npos);
   // A different seed gives a different packing.
   const Packing other = generate_packing(spec_from(replace(kDeck, "seed = 3", "seed = 4")));
   EXPECT_NE(other.grains[0].centre, paper_packing().grains[0].centre);
   std::filesystem::remove_all(dir);
+}
+
+namespace {
+// Whether `text`, drawn in black at `scale`, appears in `img` with its cell's top row between rows
+// y0 and y1: every pixel of the glyphs black there and every other pixel of the cell not black.
+bool shows_text(const RgbImage& img, int y0, int y1, const std::string& text, int scale) {
+  RgbImage t;
+  t.width = text_width(text, scale);
+  t.height = kGlyphRows * scale;
+  t.rgb.assign(static_cast<std::size_t>(t.width) * t.height * 3, 255);
+  const std::uint8_t black[3] = {0, 0, 0};
+  draw_text(t, 0, 0, text, scale, black);
+  const auto is_black = [](const RgbImage& im, int i, int j) {
+    const std::uint8_t* c = &im.rgb[3 * (static_cast<std::size_t>(j) * im.width + i)];
+    return c[0] == 0 && c[1] == 0 && c[2] == 0;
+  };
+  for (int y = y0; y <= y1 && y + t.height <= img.height; ++y)
+    for (int x = 0; x + t.width <= img.width; ++x) {
+      bool same = true;
+      for (int j = 0; j < t.height && same; ++j)
+        for (int i = 0; i < t.width && same; ++i) same = is_black(t, i, j) == is_black(img, x + i, y + j);
+      if (same) return true;
+    }
+  return false;
+}
+}  // namespace
+
+// packing.png: the box at 1200 px on its long side, then a white strip with a scale bar labelled
+// with its length and a legend of the three phases (their swatches in the picture's colours, their
+// names written), as docs/deck/microstructure.md says. Without the label or the legend this fails.
+TEST(Packing, PictureHasALabelledScaleBarAndALegend) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pbx_test_picture_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const Packing& p = paper_packing();
+  write_packing(p, dir.string());
+  const RgbImage img = read_png((dir / "packing.png").string());
+  const double px = p.box.maxCoeff() / 1200.0;  // 1.2 mm box: 1 px = 1 um
+  const int box_h = static_cast<int>(std::lround(p.box.y() / px));
+  ASSERT_EQ(img.width, std::lround(p.box.x() / px));
+  ASSERT_GT(img.height, box_h + 30);
+  const auto rgb = [&](int i, int j) { return &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)]; };
+  const auto is = [&](int i, int j, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    return rgb(i, j)[0] == r && rgb(i, j)[1] == g && rgb(i, j)[2] == b;
+  };
+  // the bar: 100 um (the largest 1-2-5 length within 15 % of the 1 mm width), 8 px thick, from
+  // x = 20 and 17 px below the box, then white before its label
+  for (int j = box_h + 17; j < box_h + 25; ++j) {
+    EXPECT_TRUE(is(19, j, 255, 255, 255)) << j;
+    int run = 0;
+    while (is(20 + run, j, 0, 0, 0)) ++run;
+    EXPECT_EQ(run, std::lround(100e-6 / px)) << "row " << j;
+  }
+  EXPECT_TRUE(is(20, box_h + 16, 255, 255, 255));
+  EXPECT_TRUE(is(20, box_h + 25, 255, 255, 255));
+  // its length written 10 px to its right, the text cell from 12 px below the box
+  EXPECT_TRUE(shows_text(img, box_h + 12, box_h + 12, "100 \u00b5m", 2));
+  EXPECT_FALSE(shows_text(img, box_h + 12, box_h + 12, "200 \u00b5m", 2));  // the check tells texts apart
+  // the legend: each phase named, and swatches in the binder's dark green and the first grain tint
+  for (const char* label : {"TATB grain (yellow tints)", "binder coat (dark green)", "pore (white)"}) {
+    EXPECT_TRUE(shows_text(img, box_h, img.height - 1, label, 2)) << label;
+  }
+  int green = 0, tint = 0;
+  for (int j = box_h; j < img.height; ++j)
+    for (int i = 0; i < img.width; ++i) {
+      green += is(i, j, 30, 90, 40);
+      tint += is(i, j, 240, 200, 60);
+    }
+  EXPECT_EQ(green, 16 * 16);  // the swatch's inside (18 px with a 1 px black rim)
+  EXPECT_GT(tint, 0);
+  const std::string json = slurp(dir / "packing.json");
+  EXPECT_NE(json.find("bar below the box is 100 um long"), std::string::npos);
+  EXPECT_NE(json.find("\"scale_bar_um\": 100"), std::string::npos) << json;
+  std::filesystem::remove_all(dir);
+}
+
+// The font writes what the picture needs, and says which character it lacks instead of skipping it.
+TEST(BitmapText, WritesDigitsLettersAndMicroAndNamesAMissingGlyph) {
+  EXPECT_TRUE(font_has("0123456789 \u00b5m (),.:-"));
+  EXPECT_EQ(text_width("100 \u00b5m", 2), 6 * 6 * 2);  // µ is one character of two UTF-8 bytes
+  EXPECT_FALSE(font_has("Q"));
+  try {
+    text_width("Quartz", 1);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("U+0051"), std::string::npos) << e.what();
+  }
+  // "1" at scale 1: its column 2 set in rows 0-6 (the stem), nothing in the descender rows
+  RgbImage img;
+  img.width = 6, img.height = kGlyphRows;
+  img.rgb.assign(6 * kGlyphRows * 3, 255);
+  const std::uint8_t black[3] = {0, 0, 0};
+  draw_text(img, 0, 0, "1", 1, black);
+  for (int j = 0; j < kGlyphRows; ++j) EXPECT_EQ(img.rgb[3 * (j * 6 + 2)], j < 7 ? 0 : 255) << j;
 }
 
 TEST(Packing, DensityTargetIsConvertedWithTheTmd) {
