@@ -3,6 +3,7 @@
 // (24 s), and its report answers the question in the per-condition table. With the binder on every
 // grain-to-grain load path (binder_layer) doubling its moduli must raise E well above the
 // reference; the earlier direct-contact model moved E by 1 % (the test would fail there).
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -89,6 +90,28 @@ TEST_F(OwnStudy, BinderTwiceAsStiffIsAnsweredByTheConditionsTable) {
   EXPECT_EQ(rows[0].rfind("reference,", 0), 0u) << rows[0];
   EXPECT_EQ(rows[1].rfind("binder_x2,", 0), 0u) << rows[1];
   EXPECT_NE(rows[1].find("f2314 0.54/"), std::string::npos) << rows[1];  // its own binder's K0
+  // README's "Your own study" lists every column of a run's history.csv: by name, a contact column
+  // by its pattern, a rigid body's force by the body's name
+  std::ifstream readme_in(std::filesystem::path(PBXMPM_SOURCE_DIR) / "README.md");
+  const std::string readme((std::istreambuf_iterator<char>(readme_in)), std::istreambuf_iterator<char>());
+  std::ifstream history(dir / "s" / "runs" / "reference-293K-s1" / "history.csv");
+  std::string header;
+  ASSERT_TRUE(std::getline(history, header));
+  int columns = 0;
+  for (std::size_t a = 0, b = 0; b != std::string::npos; a = b + 1) {
+    b = header.find(',', a);
+    const std::string col = header.substr(a, b == std::string::npos ? std::string::npos : b - a);
+    ++columns;
+    bool listed = readme.find("`" + col + "`") != std::string::npos;
+    if (col.rfind("contact_", 0) == 0) listed = readme.find("`contact_<m1>_<m2>_fn_N_per_m`") != std::string::npos;
+    for (const char* f : {"_fx_N_per_m", "_fy_N_per_m"}) {
+      const std::size_t at = col.size() > std::strlen(f) ? col.size() - std::strlen(f) : 0;
+      if (!listed && col.compare(at, std::string::npos, f) == 0)
+        listed = readme.find("`" + col.substr(0, at) + "`") != std::string::npos;
+    }
+    EXPECT_TRUE(listed) << col << " (history.csv column) is not in README's table";
+  }
+  EXPECT_GE(columns, 40);
 }
 
 // Every "your own study" example deck is a valid study: each run's deck builds and its specimen
