@@ -162,6 +162,18 @@ TEST(StudyReport, BuildsFromAFinishedStudyDirectoryAlone) {
     EXPECT_NE(text.find(section), std::string::npos) << section;
   }
   EXPECT_EQ(text.find("Not in this report"), std::string::npos);
+  // the captions of Fig. 5 and 9 say what is drawn: symbols, lines, the paper's constants, units
+  for (const char* caption :
+       {"*Normalised stress-strain curves (cf. Fig. 5): σ/σc against strain in %, one coloured line per temperature",
+        "black dashed, the paper's Eq. 14, σ/σc = A ε + B ε^n with ε in %, at its A = -0.1206, B = 1.084, n = 0.2467 "
+        "(peak 1.060 at 2.88 %)",
+        "black solid, Eq. 14 fitted to our curves at T0 = 293 K", "grey band, the fitting window 0.5-3 %",
+        "*Shear modulus G (left) and bulk modulus K (right) in GPa against density in g/cm³ (cf. Fig. 9a, b): circles "
+        "with error bars, ours (mean ± standard deviation over the seeds of each density condition)",
+        "X = X^U k (ρ/ρ0)^n with G^U = 10.84, K^U = 10.52 GPa and ρ0 = our theoretical density 1.9420 g/cm³",
+        "black dashed, the paper's Eq. 21-22 with its constants (G: k = 0.318, n = 12.11; K: k = 0.696, n = 12.01)"}) {
+    EXPECT_NE(text.find(caption), std::string::npos) << caption;
+  }
   // the synthetic runs carry the paper's own Table 2-3 and Eq. 21-22 numbers, so every trend the
   // paper reports must come out its way (a sign or ordering error in the trend table says "no")
   const auto trends = text.find("## The paper's trends, measured");
