@@ -53,13 +53,17 @@ double wall(const Measurement& m) { return m.wall_stress; }
 
 TEST(DieBlock, ConstrainedModulusLateralRatioAndQuasiStatic) {
   for (const char* integ : {"musl", "usl", "usf"}) {
-    // to 3.6 % strain: beyond it USF's lateral ratio drifts out of the 2 % band (2.2 % over 1-4 %;
-    // docs/architecture.md, MUSL/USF lateral instability); the tests ran to 3.6 % before the
-    // end-time fix of 2026-12-02 as well, when end_strain 0.04 stopped 0.4 % short
-    Curve c = run_block(100, 0.036, integ);
-    const double Mfit = slope(c, 0.01, 0.036, punch), Lfit = slope(c, 0.01, 0.036, wall);
+    // Over 1-4 % strain the three integrators give the same slopes (M -0.32 %, lambda/M +0.12 %,
+    // 2026-12-05). The lateral tolerance (1 %) is what catches a velocity gradient taken at the
+    // wall nodes from velocities the wall's contact did not set: before USF and MUSL took L at
+    // contact nodes from the final contact velocity (Solver::final_contact) their ratio drifted to
+    // +2.3 % (USF) and +1.1 % (MUSL) over this window, and the window had been cut to 3.6 % to fit.
+    Curve c = run_block(100, 0.04, integ);
+    const double Mfit = slope(c, 0.01, 0.04, punch), Lfit = slope(c, 0.01, 0.04, wall);
+    std::printf("%s: M %+.4f, lambda/M %+.4f (relative errors)\n", integ, Mfit / M - 1,
+                (Lfit / Mfit) / (LAMBDA / M) - 1);
     EXPECT_NEAR(Mfit, M, 0.01 * M) << integ;
-    EXPECT_NEAR(Lfit / Mfit, LAMBDA / M, 0.02 * LAMBDA / M) << integ;  // nu/(1-nu)
+    EXPECT_NEAR(Lfit / Mfit, LAMBDA / M, 0.01 * LAMBDA / M) << integ;  // nu/(1-nu)
     for (auto& m : c.rows) {
       if (m.strain < 0.01) continue;
       EXPECT_NEAR(-m.mean_stress.yy, m.punch_stress, 0.01 * m.punch_stress) << integ << " at strain " << m.strain;
