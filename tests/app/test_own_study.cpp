@@ -1,6 +1,8 @@
 // The README's "Your own study" path, end to end: the example study deck (binder twice as stiff
 // against the paper's binder) runs, with a coarser grid given by --set to keep the test short
-// (24 s), and its report answers the question in the per-condition table. With the binder on every
+// (40 um cells: 21 s; the deck's 20 um took 2 min 10 s as one process on 2026-12-05, more than a
+// test may take: README "Your own study"), and its report answers the question in the
+// per-condition table. With the binder on every
 // grain-to-grain load path (binder_layer) doubling its moduli must raise E well above the
 // reference; the earlier direct-contact model moved E by 1 % (the test would fail there).
 #include <cstring>
