@@ -72,9 +72,9 @@ void register_study(CLI::App& app) {
     if (failed == kStudyNotStarted)
       throw InputError("the study did not start (no run was made): see the messages above");
     if (failed > 0)
-      throw std::runtime_error(fmt::format("{} of the study failed; see the messages above and {} run.json",
-                                           failed == 1 ? std::string("1 run") : fmt::format("{} runs", failed),
-                                           failed == 1 ? "its" : "their"));
+      throw std::runtime_error(
+          fmt::format("{} of the study failed; see the messages above (a failed run's run.json holds its message)",
+                      failed == 1 ? std::string("1 run") : fmt::format("{} runs", failed)));
   });
 
   auto dir = std::make_shared<std::string>();

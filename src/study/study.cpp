@@ -601,7 +601,17 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
         runner.run();
       }
       fs::remove(ckpt);  // finished: the study never restarts it
-      analyze_run_to_file(dir.string(), s.analysis);
+      try {
+        analyze_run_to_file(dir.string(), s.analysis);
+      } catch (const std::exception& e) {
+        // the run itself is whole (run.json "finished"): only its analysis is missing, and the same
+        // command re-analyses it without running it again
+        ++failed;
+        std::fprintf(stderr,
+                     "pbxmpm study: run %s finished, but its analysis failed: %s (the run is kept; after "
+                     "changing the study's [analysis] the same command re-analyses it without running it)\n",
+                     r.id.c_str(), e.what());
+      }
       if (stop_signal_received()) {
         // the signal came after the run's last checkpoint row, so the run finished: the study
         // stops before the next one (it used to start it, and the signal was forgotten)

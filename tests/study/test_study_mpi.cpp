@@ -641,3 +641,47 @@ TEST(Study, UnreadableCheckpointIsSetAsideAndTheRunStartsOver) {
   EXPECT_TRUE(fs::exists(run / "checkpoint.unusable.h5"));
   fs::remove_all(dir);
 }
+
+// A run that fails on one rank of an MPI study (here its analysis: a run to 49 % strain sampled every
+// 1 % leaves too few rows in the moduli window): the rank names the run and the reason, the other
+// rank's run finishes with its analysis, the study exits non-zero without a report, and the same
+// command again re-analyses the failed run without running it, and leaves the finished one alone.
+TEST(Study, RunFailingOnOneRankLeavesTheOtherRanksRunsWhole) {
+#ifndef PBXMPM_HAVE_MPI
+  GTEST_SKIP() << "built without MPI (-DPBXMPM_WITH_MPI=OFF)";
+#endif
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+  const fs::path dir = make_study();
+  std::ofstream(dir / "study.toml") << "[study]\nname = \"rank-fails\"\nbase = \"base.toml\"\n"
+                                       "[study.set]\n\"solver.mass_scaling\" = 10000\n"
+                                       "[[study.group]]\nname = \"strain\"\nkey = \"run.end_strain\"\n"
+                                       "values = [0.006, 0.49]\n";
+  const std::string cmd = "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe -n 2 " +
+                          std::string(PBXMPM_BINARY) + " study " + (dir / "study.toml").string() + " --out " +
+                          (dir / "out").string() + " --quiet > " + (dir / "mpi.log").string() + " 2>&1";
+  const StudySpec s = read_study((dir / "study.toml").string());
+  ASSERT_EQ(s.runs.size(), 2u);
+  const fs::path good = dir / "out" / "runs" / s.runs[0].id, bad = dir / "out" / "runs" / s.runs[1].id;
+  int status = std::system(cmd.c_str());
+  const std::string log = slurp(dir / "mpi.log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_NE(WEXITSTATUS(status), 0) << log;
+  EXPECT_NE(WEXITSTATUS(status), 124) << "the ranks hung (timeout):\n" << log;
+  const std::string said = "run " + s.runs[1].id + " finished, but its analysis failed: linear window";
+  EXPECT_NE(log.find(said), std::string::npos) << log;
+  EXPECT_NE(log.find("1 run of the study failed"), std::string::npos) << log;
+  EXPECT_NE(slurp(good / "run.json").find("\"status\": \"finished\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(good / "analysis.json"));
+  EXPECT_NE(slurp(bad / "run.json").find("\"status\": \"finished\""), std::string::npos);
+  EXPECT_FALSE(fs::exists(bad / "analysis.json"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "report")) << "a report from a study with a failed run";
+  // the same command again: neither run is made again; the failed analysis is tried again
+  const auto stamp_good = fs::last_write_time(good / "history.csv"),
+             stamp_bad = fs::last_write_time(bad / "history.csv");
+  status = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 124) << slurp(dir / "mpi.log");
+  EXPECT_EQ(fs::last_write_time(good / "history.csv"), stamp_good);
+  EXPECT_EQ(fs::last_write_time(bad / "history.csv"), stamp_bad);
+  EXPECT_NE(slurp(dir / "mpi.log").find("linear window"), std::string::npos) << slurp(dir / "mpi.log");
+  fs::remove_all(dir);
+}
