@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/tensor.hpp"
+#include "grid/shape.hpp"
 
 namespace pbx {
 
@@ -18,6 +19,7 @@ struct Grid {
   std::array<long, D> stride{};    // node index step per axis
   int fields = 0;                  // all velocity fields: deformable, then rigid
   int deformable = 0;              // fields with full nodal arrays (the first `deformable` fields)
+  ClampedNodes<D> clamped;         // fixed boundaries of the bspline2 basis (the die's walls), none by default
 
   // Per deformable field and node.
   std::vector<double> mass;

@@ -67,7 +67,7 @@ void Solver<D>::particle_pass_impl() {
         const auto c_start = Clock::now();
         for (long q = c0; q < c1; ++q) {
           const auto p = static_cast<std::uint32_t>(q);
-          const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+          const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
           const Gathered<D> r = gather<D>(g, P.field[p] * nn, st, true);
           const Vec<D> vnew = alpha * (P.v[p] + r.dv) + (1.0 - alpha) * r.vpic;
           P.v[p] = vnew;
@@ -134,7 +134,7 @@ void Solver<D>::particle_pass_impl() {
         // 3. P2G of the next step
         for (long q = c0; q < c1; ++q)
           if (place[static_cast<std::size_t>(q - c0)] == StripBins::kHome)
-            scatter_one(static_cast<std::uint32_t>(q), make_stencil<D, K>(P.x[q], g.origin, inv_h, a));
+            scatter_one(static_cast<std::uint32_t>(q), make_stencil<D, K>(P.x[q], g.origin, inv_h, a, &g.clamped));
         t_p2g += seconds(c_stress, Clock::now());
       }
     }
@@ -142,7 +142,7 @@ void Solver<D>::particle_pass_impl() {
   const auto wall1 = Clock::now();
   clock_.split_pass(seconds(wall0, wall1), t_g2p, t_stress, t_p2g);
   bins_.collect_strays(strays);
-  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
   clock_.add(Stage::p2g, seconds(wall1, Clock::now()));
   left_grid_ = left;
   // A particle that moved a cell or more may have met a field the contact mask did not foresee:

@@ -301,17 +301,19 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       // surface): on one velocity field they would move as one body, with no contact law between
       // them. The packing's colours respect only its contact_gap (2 um); where they put such
       // grains on one field, the grains are coloured again (a packing whose colours already hold
-      // keeps them: at 2.5 um cells the paper specimens do).
+      // keeps them: at 2.5 um cells the paper specimens do). bspline2 supports reach 1.5 cells each,
+      // so there the distance is 3 cells less the two outer particles' offsets (h / 2ppc each).
       if (fields == "colours" && packing.image.nx == 0) {
         const int before = packing.stats.colours;
-        if (const int clashes = separate_colours_within(packing, 2.0 * h); clashes > 0)
+        const double share_cells = sc.settings.kernel == Kernel::bspline2 ? 3.0 - 1.0 / ppc : 2.0;
+        if (const int clashes = separate_colours_within(packing, share_cells * h); clashes > 0)
           if (notes == SceneNotes::print)
             fmt::print(
                 stderr,
-                "pbxmpm: note: {} of grains of one contact colour come{} within 2 cells ({:.3g} m) of each "
+                "pbxmpm: note: {} of grains of one contact colour come{} within {:g} cells ({:.3g} m) of each "
                 "other at this cell size and would share grid nodes (one body, no contact law): {}\n",
                 clashes == 1 ? std::string("1 pair") : fmt::format("{} pairs", clashes), clashes == 1 ? "s" : "",
-                2.0 * h,
+                share_cells, share_cells * h,
                 packing.stats.colours == before
                     ? fmt::format("the grains re-coloured among the packing's {} colours", before)
                     : fmt::format("re-coloured with {} colours (the packing had {})", packing.stats.colours, before));
@@ -577,22 +579,41 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     std::vector<int>().swap(sc.grain_index);
   }
 
-  // Rigid contact bodies (the die, unilateral [[rigid]]) meet the specimen at grid nodes; only uGIMP passes the die
-  // test there (confined modulus within 1 %, wall/punch within 2 %, at 10 and 5 um cells). Measured
-  // 2026-12-04 on the elastic column: with linear shapes the particles in front of a face lying
-  // between nodes move slower than the face, the top row is overrun and the run inverts a particle
-  // (at 3.5 % strain with 10 um cells, 2 % with 5 um; M 15 % low before); with bspline2 the
-  // wall/punch ratio is 6 % (10 um) and 3 % (5 um) low and M 1.4 % low. Both stay for runs
-  // without contact bodies, where they are tested (bar vibration with a stick clamp, shape tests).
+  // Rigid contact bodies (the die, unilateral [[rigid]]) meet the specimen at grid nodes. Measured on the elastic
+  // column in the die (tests/engine/test_die_block.cpp, 10 and 5 um cells): uGIMP passes (confined modulus within
+  // 1 %, wall/punch within 2 %); bspline2 passes once its basis is clamped at the die's walls and floor (fixed node
+  // lines, grid/shape.hpp; unclamped the wall/punch ratio was 7 % and M 1.4 % low), which leaves the punch and any
+  // [[rigid]] face unclamped (the punch's share of M's error: about 0.4 %); with linear shapes the particles in front
+  // of a face lying between nodes move slower than the face, the top row is overrun and the run inverts a particle
+  // (at 1.5 % strain with 10 um cells, for every contact_cutoff from 0 to 1; M 15 % low before), the cell-crossing
+  // error of the linear hat. Linear stays for runs without contact bodies (bar vibration with a stick clamp).
+  bool die_only = true;  // every unilateral body is one of the die's
+  for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
+    const int ib = static_cast<int>(b);
+    const bool of_die =
+        sc.die && (ib == sc.die->left || ib == sc.die->right || ib == sc.die->bottom || ib == sc.die->punch);
+    if (sc.bodies[b].contact != RigidContact::stick && !of_die) die_only = false;
+  }
   const bool unilateral = std::any_of(sc.bodies.begin(), sc.bodies.end(),
                                       [](const RigidBody<D>& b) { return b.contact != RigidContact::stick; });
-  if (unilateral && sc.settings.kernel != Kernel::ugimp)
+  if (unilateral && sc.settings.kernel == Kernel::linear)
     gt.fail("shape_function",
-            fmt::format("'{}' is refused in a run with rigid contact bodies (a [die], or a [[rigid]] body that is not "
-                        "\"stick\"): only \"ugimp\" passes the "
-                        "die test there (with linear shapes the punch overruns the top particle row and the run "
-                        "inverts; with bspline2 the wall/punch ratio is 3-6 % low); see docs/deck/engine.md",
-                        kernel_name(sc.settings.kernel)));
+            "'linear' is refused in a run with rigid contact bodies (a [die], or a [[rigid]] body that is not "
+            "\"stick\"): the punch overruns the top particle row and the run inverts a particle (the linear hat's "
+            "cell-crossing error); use \"ugimp\" or \"bspline2\", see docs/deck/engine.md");
+  if (unilateral && sc.settings.kernel == Kernel::bspline2 && !die_only)
+    gt.fail("shape_function",
+            "'bspline2' is refused beside a unilateral [[rigid]] body: its basis is clamped only at the die's fixed "
+            "walls, and a face elsewhere is not verified (unclamped, the die column's wall/punch ratio was 7 % low); "
+            "use \"ugimp\", see docs/deck/engine.md");
+  if (sc.die && sc.settings.kernel == Kernel::bspline2) {
+    // the die's walls and floor lie on node lines (width and height are whole cells, the grid starts
+    // wall_cells + 2 cells outside them)
+    const int first = wall_cells + 2;
+    sc.grid.clamped.lo[0] = first;
+    sc.grid.clamped.hi[0] = first + static_cast<int>(std::lround(sc.die->width / h));
+    sc.grid.clamped.lo[1] = first;
+  }
   check_fits(
       gt, "cell_size",
       static_cast<double>(sc.grid.nodes()) *

@@ -233,10 +233,10 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
       const long s = bins_.phase_strip(phase, k);
       for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
         if (!bins_.stray[static_cast<std::size_t>(p)])
-          scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+          scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
     }
   }
-  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
 }
 
 template <int D>
@@ -576,7 +576,7 @@ void Solver<D>::g2p_impl() {
       const long s = bins_.phase_strip(phase, k);
       for (long q = bins_.begin[static_cast<std::size_t>(s)]; q < bins_.begin[static_cast<std::size_t>(s + 1)]; ++q) {
         const auto p = static_cast<std::uint32_t>(q);
-        const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+        const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
         const Gathered<D> r = gather<D>(g, P.field[p] * nn, st, usl);
         const Vec<D> vnew = alpha * (P.v[p] + r.dv) + (1.0 - alpha) * r.vpic;
         P.v[p] = vnew;
@@ -597,7 +597,8 @@ void Solver<D>::g2p_impl() {
     }
   }
   if (musl) {
-    for (const std::uint32_t p : bins_.strays) scatter_momentum(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a));
+    for (const std::uint32_t p : bins_.strays)
+      scatter_momentum(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
   } else {
     left_grid_ = left;
     bins_.collect_strays(strays);
@@ -635,7 +636,7 @@ void Solver<D>::remap_gradient_impl() {
   for (long s = 0; s < bins_.strips; ++s) {
     for (long q = bins_.begin[static_cast<std::size_t>(s)]; q < bins_.begin[static_cast<std::size_t>(s + 1)]; ++q) {
       const auto p = static_cast<std::uint32_t>(q);
-      const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+      const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
       const long off = P.field[p] * nn;
       const Vec<D>* gv = g.vel.data() + off;
       const Vec<D>* gr = g.dvel.data() + off;
@@ -680,7 +681,7 @@ void Solver<D>::velocity_gradient_impl() {
   const long np = static_cast<long>(P.size());
 #pragma omp parallel for schedule(static)
   for (long p = 0; p < np; ++p) {
-    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a);
+    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
     const Vec<D>* gv = g.vel.data() + P.field[p] * nn;
     Mat<D> L = Mat<D>::Zero();
     for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { L += gv[i] * G.transpose(); });

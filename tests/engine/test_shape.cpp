@@ -228,3 +228,72 @@ TEST(Shape, TensorProductWeightsAndGradientsIn2D) {
   check_tensor_product<Kernel::ugimp>();
   check_tensor_product<Kernel::bspline2>();
 }
+
+// The bspline2 basis clamped at fixed node lines lo and hi (the die's walls): inside [lo, hi] a
+// partition of unity that reproduces linear fields (value and gradient), only node lo (hi) nonzero
+// on the line itself (what makes a wall constraint at that node hold the particles on it), equal to
+// the open-knot closed form (the hat between lo and lo + 1 within half a cell of lo), the standard
+// B-spline from one and a half cells in, continuous with a continuous gradient where the two pieces
+// meet, and coordinates beyond a line taken onto it. The unclamped B-spline gives 1/8 at the line
+// to the node beyond it and fails each of the first three checks.
+TEST(Shape, Bspline2ClampedAtFixedNodeLines) {
+  const int lo = 3, hi = 9;
+  const double inv_h = 2.0;  // h = 0.5
+  auto at = [&](double s, int node, bool grad) {
+    int base;
+    std::array<double, 3> w, g;
+    bspline2_clamped_1d(s, lo, hi, inv_h, base, w, g);
+    const int k = node - base;
+    return k < 0 || k > 2 ? 0.0 : (grad ? g[static_cast<std::size_t>(k)] : w[static_cast<std::size_t>(k)]);
+  };
+  for (double s = lo; s <= hi + 1e-12; s += 0.00913) {
+    int base;
+    std::array<double, 3> w, g;
+    bspline2_clamped_1d(s, lo, hi, inv_h, base, w, g);
+    double sw = 0, sg = 0, sx = 0, sxg = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int node = base + k;
+      if (node < lo || node > hi) {
+        EXPECT_EQ(w[static_cast<std::size_t>(k)], 0.0) << "s=" << s << " node " << node << " lies beyond a line";
+        EXPECT_EQ(g[static_cast<std::size_t>(k)], 0.0) << "s=" << s;
+      }
+      EXPECT_GE(w[static_cast<std::size_t>(k)], -1e-15) << s;
+      sw += w[static_cast<std::size_t>(k)];
+      sg += g[static_cast<std::size_t>(k)];
+      sx += w[static_cast<std::size_t>(k)] * node;
+      sxg += g[static_cast<std::size_t>(k)] * node / inv_h;
+    }
+    EXPECT_NEAR(sw, 1.0, 1e-13) << s;
+    EXPECT_NEAR(sg, 0.0, 1e-12) << s;
+    EXPECT_NEAR(sx, s, 1e-13) << s;
+    EXPECT_NEAR(sxg, 1.0, 1e-13) << s;
+    // the open-knot closed form near the lines, the standard B-spline away from them
+    if (s < lo + 0.5) {
+      EXPECT_NEAR(at(s, lo, false), 1.0 - (s - lo), 1e-14) << s;
+      EXPECT_NEAR(at(s, lo + 1, false), s - lo, 1e-14) << s;
+    } else if (s > hi - 0.5) {
+      EXPECT_NEAR(at(s, hi, false), 1.0 - (hi - s), 1e-14) << s;
+    } else if (s >= lo + 1.5 && s <= hi - 1.5) {
+      int b2;
+      std::array<double, 3> w2, g2;
+      kernel_1d<Kernel::bspline2>(s, 0.25, inv_h, b2, w2, g2);
+      EXPECT_EQ(b2, base);
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(w[static_cast<std::size_t>(k)], w2[static_cast<std::size_t>(k)]) << s;
+    }
+  }
+  // on the lines: only the line's own node
+  EXPECT_DOUBLE_EQ(at(lo, lo, false), 1.0);
+  EXPECT_DOUBLE_EQ(at(lo, lo + 1, false), 0.0);
+  EXPECT_DOUBLE_EQ(at(hi, hi, false), 1.0);
+  EXPECT_DOUBLE_EQ(at(hi, hi - 1, false), 0.0);
+  // C1 where the pieces meet (half a cell from a line) and across the standard pieces' joints
+  for (const double s0 : {lo + 0.5, lo + 1.5, hi - 0.5, hi - 1.5})
+    for (int node = lo; node <= lo + 3; ++node)
+      for (const int n2 : {node, hi - (node - lo)})
+        for (const bool grad : {false, true})
+          EXPECT_NEAR(at(s0 - 1e-9, n2, grad), at(s0 + 1e-9, n2, grad), 1e-7)
+              << "s=" << s0 << " node " << n2 << (grad ? " gradient" : " weight");
+  // beyond a line: the weights of the line
+  EXPECT_DOUBLE_EQ(at(lo - 0.3, lo, false), 1.0);
+  EXPECT_DOUBLE_EQ(at(hi + 0.7, hi, false), 1.0);
+}
