@@ -27,6 +27,8 @@ const char* to_string(ContactLaw law) {
       return "adhesion";
     case ContactLaw::binder_layer:
       return "binder_layer";
+    case ContactLaw::registered:
+      return "registered";
   }
   return "?";
 }
@@ -49,11 +51,18 @@ PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<s
   else if (name == "binder_layer" && law_key == "law") {
     p.law = ContactLaw::binder_layer;  // its keys: read_layer_law
     return p;
-  } else if (name == "binder_layer")
+  } else if (name == "binder_layer") {
     t.fail(law_key, "binder_layer is a law for one pair of materials: give it in a [[contact.pair]] entry");
-  else
-    t.fail(law_key,
-           fmt::format("unknown contact law '{}' (weld, frictionless, coulomb, adhesion, binder_layer)", name));
+  } else if (const ContactLawReader* read = find_contact_law(name)) {
+    p.law = ContactLaw::registered;  // it reads its own keys
+    p.name = name;
+    p.plugin = (*read)(t);
+    return p;
+  } else {
+    std::string known = "weld, frictionless, coulomb, adhesion, binder_layer";
+    for (const std::string& r : registered_contact_laws()) known += ", " + r;
+    t.fail(law_key, fmt::format("unknown contact law '{}' ({})", name, known));
+  }
 
   if (p.law == ContactLaw::coulomb || p.law == ContactLaw::adhesion) {
     p.friction = t.number("friction");

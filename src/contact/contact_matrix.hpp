@@ -2,18 +2,22 @@
 // Which contact law acts between each pair of deformable velocity fields. The deck states laws per
 // pair of *materials* ([contact] table); fields inherit the law of their materials, so two TATB
 // grains on different fields (colours) use the ("tatb", "tatb") entry.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "contact/binder_layer.hpp"
+#include "contact/law_registry.hpp"
 #include "io/deck.hpp"
 
 namespace pbx {
 
-// binder_layer: a spring interface standing for an unresolved binder layer (contact/binder_layer.hpp)
-// where both sides are bonded; Coulomb with `friction` elsewhere.
-enum class ContactLaw { weld, frictionless, coulomb, adhesion, binder_layer };
+// The built-in laws (one file each: contact/law_weld.hpp, law_coulomb.hpp for frictionless, coulomb
+// and adhesion, law_binder_layer.hpp) and `registered`, a law registered by name at run time
+// (contact/law_registry.hpp). binder_layer: a spring interface standing for an unresolved binder
+// layer (contact/binder_layer.hpp) where both sides are bonded; Coulomb with `friction` elsewhere.
+enum class ContactLaw { weld, frictionless, coulomb, adhesion, binder_layer, registered };
 
 // Outward normal of field a at a node (see docs/theory/contact.md):
 //   dominant: from the volume gradient of whichever side (a or the rest) has the larger |grad V|,
@@ -24,9 +28,11 @@ enum class ContactNormal { dominant, average, own };
 
 struct PairLaw {
   ContactLaw law = ContactLaw::weld;
-  double friction = 0;  // Coulomb coefficient mu
-  double adhesion = 0;  // shear adhesion S_a, Pa
-  int layer = -1;       // binder_layer: index into ContactMatrix::layers
+  double friction = 0;                             // Coulomb coefficient mu
+  double adhesion = 0;                             // shear adhesion S_a, Pa
+  int layer = -1;                                  // binder_layer: index into ContactMatrix::layers
+  std::shared_ptr<const ContactLawPlugin> plugin;  // registered: the law, built from its deck table
+  std::string name;                                // registered: the name the deck gave
 };
 
 struct ContactMatrix {

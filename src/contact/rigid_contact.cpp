@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "contact/law_coulomb.hpp"
+#include "contact/law_weld.hpp"
 #include "core/parallel.hpp"
 
 namespace pbx {
@@ -60,26 +62,14 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
               if (m <= mass_eps) continue;
               if (!behind && (grid.origin + grid.moff[k] / m).dot(n) - face[b] > reach) continue;
               const Vec<D> vrel = grid.mom[k] / m - vb[b];
-              Vec<D> dp;
-              double fw = 0;
-              if (bodies[b].contact == RigidContact::stick) {
-                dp = -m * vrel;
-              } else {
-                const double vn = vrel.dot(n);
-                if (vn >= 0.0) continue;  // separating or sliding along: free
-                const Vec<D> vt = vrel - vn * n;
-                const double vt_norm = vt.norm();
-                dp = -m * vn * n;
-                if (bodies[b].friction > 0 && vt_norm > 0) {
-                  const double cap = bodies[b].friction * (-vn);
-                  const double scale = std::min(1.0, cap / vt_norm);
-                  dp -= m * scale * vt;
-                  // Energy dissipated by sliding: the friction impulse m cap times the mean of the slip
-                  // speeds before (vt_norm) and after (vt_norm - cap) it, i.e. exactly the kinetic
-                  // energy the tangential impulse removes at the node.
-                  if (scale < 1.0) fw = m * cap * (vt_norm - 0.5 * cap);
-                }
-              }
+              // the body is the infinite-mass limit of the field laws: a stick body welds, a
+              // unilateral one is Coulomb with its friction (frictionless at 0)
+              const RigidExchange<D> e = bodies[b].contact == RigidContact::stick
+                                             ? WeldLaw{}.rigid<D>(m, vrel)
+                                             : CoulombLaw{bodies[b].friction, 0.0}.rigid<D>(m, vrel, n);
+              if (!e.acts) continue;
+              const Vec<D>& dp = e.dp;
+              const double fw = e.friction_work;
               grid.mom[k] += dp;
               s.impulse[b] += dp;
               s.work[b] += dp.dot(vb[b]);

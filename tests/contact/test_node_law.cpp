@@ -18,6 +18,14 @@ Grid<2> one_node(int fields) {
   return g;
 }
 
+PairLaw law_of(ContactLaw kind, double friction, double adhesion) {
+  PairLaw p;
+  p.law = kind;
+  p.friction = friction;
+  p.adhesion = adhesion;
+  return p;
+}
+
 ContactMatrix matrix(int fields, PairLaw law, ContactNormal normal = ContactNormal::dominant) {
   ContactMatrix cm;
   cm.fields = fields;
@@ -44,7 +52,7 @@ TEST(NodeLaw, FrictionlessStopsNormalApproachKeepsTangential) {
   Grid<2> g = one_node(2);
   two_bodies(g, Vec<2>(1.0, 0.4), Vec<2>(-0.5, -0.2));
   const Vec<2> p0 = g.mom[0] + g.mom[1];
-  const double w = field_contact<2>(g, matrix(2, {ContactLaw::frictionless, 0, 0}), 2, 1e-9, 0.0);
+  const double w = field_contact<2>(g, matrix(2, law_of(ContactLaw::frictionless, 0, 0)), 2, 1e-9, 0.0);
   const Vec<2> va = g.mom[0] / 2.0, vb = g.mom[1] / 3.0;
   EXPECT_NEAR(va.x(), vb.x(), 1e-15);             // normal relative velocity removed
   EXPECT_NEAR(va.x(), (2.0 - 1.5) / 5.0, 1e-15);  // centre-of-mass normal velocity
@@ -58,7 +66,7 @@ TEST(NodeLaw, SeparatingFieldsAreFree) {
   Grid<2> g = one_node(2);
   two_bodies(g, Vec<2>(-1.0, 0.4), Vec<2>(0.5, -0.2));
   const auto m0 = g.mom;
-  field_contact<2>(g, matrix(2, {ContactLaw::coulomb, 0.5, 0}), 2, 1e-9, 0.0);
+  field_contact<2>(g, matrix(2, law_of(ContactLaw::coulomb, 0.5, 0)), 2, 1e-9, 0.0);
   EXPECT_EQ(g.mom[0], m0[0]);
   EXPECT_EQ(g.mom[1], m0[1]);
 }
@@ -69,7 +77,7 @@ TEST(NodeLaw, CoulombSticksBelowAndSlidesAboveTheCap) {
     Grid<2> g = one_node(2);
     two_bodies(g, Vec<2>(1.0, vt), Vec<2>(-0.5, 0.0));
     const double mu = 0.3;
-    const double w = field_contact<2>(g, matrix(2, {ContactLaw::coulomb, mu, 0}), 2, 1e-9, 0.0);
+    const double w = field_contact<2>(g, matrix(2, law_of(ContactLaw::coulomb, mu, 0)), 2, 1e-9, 0.0);
     const Vec<2> va = g.mom[0] / 2.0, vb = g.mom[1] / 3.0;
     const double jt_stick = kMuRed * vt, jn = kMuRed * 1.5;
     const double jt = 2.0 * vt - g.mom[0].y();  // tangential impulse taken from a
@@ -95,7 +103,7 @@ TEST(NodeLaw, AdhesionAddsSaAcDtToTheCap) {
   Grid<2> g = one_node(2);
   two_bodies(g, Vec<2>(1.0, 3.0), Vec<2>(-0.5, 0.0));
   const double mu = 0.1, sa = 1e8, dt = 1e-4;  // S_a A_c dt = 0.1, mu jn = 0.18
-  field_contact<2>(g, matrix(2, {ContactLaw::adhesion, mu, sa}), 2, dt, 0.0);
+  field_contact<2>(g, matrix(2, law_of(ContactLaw::adhesion, mu, sa)), 2, dt, 0.0);
   const double jt = 6.0 - g.mom[0].y();
   EXPECT_NEAR(jt, sa * g.h * dt + mu * kMuRed * 1.5, 1e-14);
 }
@@ -103,7 +111,7 @@ TEST(NodeLaw, AdhesionAddsSaAcDtToTheCap) {
 TEST(NodeLaw, WeldGivesCentreOfMassVelocity) {
   Grid<2> g = one_node(2);
   two_bodies(g, Vec<2>(-1.0, 0.4), Vec<2>(0.5, -0.2));  // even separating
-  field_contact<2>(g, matrix(2, {ContactLaw::weld, 0, 0}), 2, 1e-9, 0.0);
+  field_contact<2>(g, matrix(2, law_of(ContactLaw::weld, 0, 0)), 2, 1e-9, 0.0);
   const Vec<2> vcm = (Vec<2>(-2.0, 0.8) + Vec<2>(1.5, -0.6)) / 5.0;
   EXPECT_NEAR((g.mom[0] / 2.0 - vcm).norm(), 0.0, 1e-15);
   EXPECT_NEAR((g.mom[1] / 3.0 - vcm).norm(), 0.0, 1e-15);
@@ -115,7 +123,7 @@ TEST(NodeLaw, NormalOptionsDecideTheDirection) {
   two_bodies(g, Vec<2>(1.0, 1.0), Vec<2>(0.0, 0.0));
   g.vgrad[0] = Vec<2>(2.0, -0.0);
   g.vgrad[1] = Vec<2>(-0.0, -1.0);
-  const PairLaw fl{ContactLaw::frictionless, 0, 0};
+  const PairLaw fl = law_of(ContactLaw::frictionless, 0, 0);
   Grid<2> dom = g;
   field_contact<2>(dom, matrix(2, fl, ContactNormal::dominant), 2, 1e-9, 0.0);
   // n = +x: only the x relative velocity is removed.
@@ -149,7 +157,7 @@ TEST(NodeLaw, ThreeFieldsConserveMomentumAndStopApproach) {
   g.vgrad[1] = Vec<2>(-0.8, -0.0);
   g.vgrad[2] = Vec<2>(-0.1, 0.3);
   const Vec<2> p0 = g.mom[0] + g.mom[1] + g.mom[2];
-  field_contact<2>(g, matrix(3, {ContactLaw::coulomb, 0.3, 0}), 3, 1e-9, 0.0);
+  field_contact<2>(g, matrix(3, law_of(ContactLaw::coulomb, 0.3, 0)), 3, 1e-9, 0.0);
   EXPECT_NEAR((g.mom[0] + g.mom[1] + g.mom[2] - p0).norm(), 0.0, 1e-15);
   // Field 0 no longer approaches the rest along its normal (up to the momentum correction).
   const Vec<2> n0 = Vec<2>(1.0, -0.1).normalized();
@@ -178,7 +186,7 @@ struct LayerNode {
       g.minvt[f] = m[f] / t[f];
       g.mnorm[f] = m[f] * Vec<2>(f == 0 ? 1.0 : -1.0, 0.0);  // each side's normal towards the other
     }
-    cm = matrix(2, {ContactLaw::binder_layer, mu, 0});
+    cm = matrix(2, law_of(ContactLaw::binder_layer, mu, 0));
     for (auto& p : cm.pair) p.layer = 0;
     LayerLaw L;
     L.binder = "f2314";
