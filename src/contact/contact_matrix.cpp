@@ -37,7 +37,7 @@ namespace {
 
 // Reads law / friction / adhesion from a table, under the key names given (the [contact] table
 // itself uses "default" for the law, a [[contact.pair]] uses "law").
-PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<std::string> def) {
+PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<std::string> def, ContactMatrix& cm) {
   PairLaw p;
   const std::string name = t.string(law_key, std::move(def));
   if (name == "weld")
@@ -55,8 +55,9 @@ PairLaw read_law(const DeckTable& t, const std::string& law_key, std::optional<s
     t.fail(law_key, "binder_layer is a law for one pair of materials: give it in a [[contact.pair]] entry");
   } else if (const ContactLawReader* read = find_contact_law(name)) {
     p.law = ContactLaw::registered;  // it reads its own keys
-    p.name = name;
-    p.plugin = (*read)(t);
+    cm.plugins.push_back((*read)(t));
+    cm.plugin_names.push_back(name);
+    p.plugin = static_cast<int>(cm.plugins.size()) - 1;
     return p;
   } else {
     std::string known = "weld, frictionless, coulomb, adhesion, binder_layer";
@@ -90,7 +91,7 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
   if (!table) return cm;
   const DeckTable& t = *table;
 
-  const PairLaw def = read_law(t, "default", std::string("weld"));
+  const PairLaw def = read_law(t, "default", std::string("weld"), cm);
   const std::string normal = t.string("normals", std::string("dominant"));
   if (normal == "dominant")
     cm.normal = ContactNormal::dominant;
@@ -125,7 +126,7 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
       idx[k] = it->second;
     }
     const auto key = std::minmax(idx[0], idx[1]);
-    PairLaw law = read_law(p, "law", std::nullopt);
+    PairLaw law = read_law(p, "law", std::nullopt, cm);
     if (law.law == ContactLaw::binder_layer) {
       cm.layers.push_back(read_layer_law(p));
       law.layer = static_cast<int>(cm.layers.size()) - 1;

@@ -28,11 +28,10 @@ enum class ContactNormal { dominant, average, own };
 
 struct PairLaw {
   ContactLaw law = ContactLaw::weld;
-  double friction = 0;                             // Coulomb coefficient mu
-  double adhesion = 0;                             // shear adhesion S_a, Pa
-  int layer = -1;                                  // binder_layer: index into ContactMatrix::layers
-  std::shared_ptr<const ContactLawPlugin> plugin;  // registered: the law, built from its deck table
-  std::string name;                                // registered: the name the deck gave
+  double friction = 0;  // Coulomb coefficient mu
+  double adhesion = 0;  // shear adhesion S_a, Pa
+  int layer = -1;       // binder_layer: index into ContactMatrix::layers
+  int plugin = -1;      // registered: index into ContactMatrix::plugins
 };
 
 struct ContactMatrix {
@@ -42,6 +41,9 @@ struct ContactMatrix {
   ContactNormal normal = ContactNormal::dominant;
   double position_cutoff = 0;    // displacement check, cells; 0 = off
   std::vector<LayerLaw> layers;  // the binder_layer laws of the [[contact.pair]] entries
+  // the registered laws the deck names, each built from its table, and the names it gave them
+  std::vector<std::shared_ptr<const ContactLawPlugin>> plugins;
+  std::vector<std::string> plugin_names;
 
   const PairLaw& operator()(int a, int b) const {
     return pair[static_cast<std::size_t>(a) * static_cast<std::size_t>(fields) + static_cast<std::size_t>(b)];

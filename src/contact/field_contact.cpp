@@ -79,12 +79,19 @@ struct PassSums {
 // dispatched by this switch, a registered one by one virtual call. A law that needs a normal gets
 // none (and no exchange) where the volume gradients give no direction.
 template <int D>
-Exchange<D> law_exchange(const PairLaw& law, const ContactMatrix& cm, NodeContact<D>& c, bool a_wins_tie) {
-  if (law.law == ContactLaw::weld) return WeldLaw{}.exchange(c);
-  if (law.law != ContactLaw::registered || law.plugin->needs_normal()) {
-    c.n = contact_normal<D>(cm.normal, c.a.g, c.r.g, a_wins_tie);
-    if (c.n.isZero()) return Exchange<D>{};
+[[gnu::always_inline]] inline Exchange<D> law_exchange(const PairLaw& law, const ContactMatrix& cm, const Side<D>& A,
+                                                       const Side<D>& R, double area, double dt, double reach,
+                                                       const Vec<D>& xi, bool layers, bool after_update,
+                                                       bool a_wins_tie) {
+  const Vec<D> stick = (A.m * R.p - R.m * A.p) / (A.m + R.m);
+  if (law.law == ContactLaw::weld)
+    return WeldLaw{}.exchange(NodeContact<D>{A, R, stick, Vec<D>::Zero(), area, dt, reach, xi, layers, after_update});
+  Vec<D> n = Vec<D>::Zero();
+  if (law.law != ContactLaw::registered || cm.plugins[static_cast<std::size_t>(law.plugin)]->needs_normal()) {
+    n = contact_normal<D>(cm.normal, A.g, R.g, a_wins_tie);
+    if (n.isZero()) return Exchange<D>{};
   }
+  const NodeContact<D> c{A, R, stick, n, area, dt, reach, xi, layers, after_update};
   switch (law.law) {
     case ContactLaw::frictionless:
     case ContactLaw::coulomb:
@@ -93,7 +100,7 @@ Exchange<D> law_exchange(const PairLaw& law, const ContactMatrix& cm, NodeContac
     case ContactLaw::binder_layer:
       return BinderLayerLaw{&cm.layers[static_cast<std::size_t>(law.layer)]}.exchange(c);
     case ContactLaw::registered:
-      return law.plugin->exchange(c);
+      return cm.plugins[static_cast<std::size_t>(law.plugin)]->exchange(c);
     case ContactLaw::weld:
       break;
   }
@@ -130,9 +137,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
         // The exchange d on field a (sums A) from the rest r (sums R) at node i, by the pair's law.
         Vec<D> xi = Vec<D>::Zero();
         auto exchange = [&](const Side<D>& A, const Side<D>& R, int a, int partner) {
-          NodeContact<D> c{
-              A, R, (A.m * R.p - R.m * A.p) / (A.m + R.m), Vec<D>::Zero(), area, dt, reach, xi, layers, after_update};
-          return law_exchange<D>(cm(a, partner), cm, c, a < partner);
+          return law_exchange<D>(cm(a, partner), cm, A, R, area, dt, reach, xi, layers, after_update, a < partner);
         };
         std::vector<int> present;
         std::vector<Vec<D>> dp(nf);

@@ -121,7 +121,7 @@ struct BinderLayerLaw {
   const LayerLaw* layer = nullptr;  // the layer's parameters and its stiffnesses now (LayerLaw::at_time)
 
   template <int D>
-  Exchange<D> exchange(const NodeContact<D>& c) const {
+  [[gnu::always_inline]] Exchange<D> exchange(const NodeContact<D>& c) const {
     if (c.layers && c.a.bonded() && c.r.bonded()) {
       const LayerImpulse<D> J = layer_impulse<D>(*layer, c.a, c.r, c.xi, c.dt, c.after_update);
       if (J.state == LayerState::waits) return Exchange<D>{};

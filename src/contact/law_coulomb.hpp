@@ -19,7 +19,7 @@ struct CoulombLaw {
   double adhesion = 0;  // S_a, Pa
 
   template <int D>
-  Exchange<D> exchange(const NodeContact<D>& c) const {
+  [[gnu::always_inline]] Exchange<D> exchange(const NodeContact<D>& c) const {
     Exchange<D> e;
     const Vec<D>& n = c.n;
     const double dn = c.stick.dot(n);
@@ -52,7 +52,7 @@ struct CoulombLaw {
 
   // Against a rigid body whose outward normal is n (adhesion does not act on rigid faces).
   template <int D>
-  RigidExchange<D> rigid(double m, const Vec<D>& vrel, const Vec<D>& n) const {
+  [[gnu::always_inline]] RigidExchange<D> rigid(double m, const Vec<D>& vrel, const Vec<D>& n) const {
     RigidExchange<D> e;
     const double vn = vrel.dot(n);
     if (vn >= 0.0) return e;  // separating or sliding along: free

@@ -8,7 +8,7 @@ namespace pbx {
 struct WeldLaw {
   static constexpr bool needs_normal = false;
   template <int D>
-  Exchange<D> exchange(const NodeContact<D>& c) const {
+  [[gnu::always_inline]] Exchange<D> exchange(const NodeContact<D>& c) const {
     Exchange<D> e;
     e.acts = true;
     e.d = c.stick;
@@ -16,7 +16,7 @@ struct WeldLaw {
   }
   // m: the field's mass at the node; vrel: its velocity relative to the body
   template <int D>
-  RigidExchange<D> rigid(double m, const Vec<D>& vrel) const {
+  [[gnu::always_inline]] RigidExchange<D> rigid(double m, const Vec<D>& vrel) const {
     RigidExchange<D> e;
     e.acts = true;
     e.dp = -m * vrel;

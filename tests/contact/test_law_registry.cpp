@@ -78,10 +78,11 @@ TEST(ContactLawRegistry, AToyLawAtOneNodeGivesItsClosedForm) {
   g.vgrad[1] = Vec<2>(-0.5, 0.0);
   ContactMatrix cm;
   cm.fields = 2;
+  cm.plugins.push_back(std::make_shared<detail::PluginOf<PartialWeld>>(PartialWeld{0.25}));
+  cm.plugin_names.push_back("toy_partial_weld");
   PairLaw law;
   law.law = ContactLaw::registered;
-  law.name = "toy_partial_weld";
-  law.plugin = std::make_shared<detail::PluginOf<PartialWeld>>(PartialWeld{0.25});
+  law.plugin = 0;
   cm.pair.assign(4, law);
   const Vec<2> pa = g.mom[0], pb = g.mom[1];
   const Vec<2> stick = (2.0 * pb - 3.0 * pa) / 5.0;
@@ -95,8 +96,8 @@ TEST(ContactLawRegistry, AToyLawRegisteredByOneCallIsBuiltFromADeckAndActsInARun
   {
     Scene<2> sc = test::scene_from(test::two_disks_deck("toy_partial_weld", "8 us", 40, "fraction = 0.5\n"));
     EXPECT_EQ(sc.contact(0, 1).law, ContactLaw::registered);
-    EXPECT_EQ(sc.contact(0, 1).name, "toy_partial_weld");
-    ASSERT_TRUE(sc.contact(0, 1).plugin);
+    ASSERT_EQ(sc.contact(0, 1).plugin, 0);
+    EXPECT_EQ(sc.contact.plugin_names.at(0), "toy_partial_weld");
   }
   // phi = 1 is the weld: the same history to round-off (an all-weld run takes the single-velocity
   // path, which sums each node's momentum in another order)
