@@ -1,5 +1,10 @@
 // A report from a small synthetic study directory, and the message for an incomplete one.
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <sstream>
+#include <tuple>
+#include <vector>
 #include <filesystem>
 #include <string>
 #include <fstream>
@@ -384,5 +389,108 @@ TEST(StudyReport, OwnStudyGetsNoEmptyPaperSectionsAndBoundsPerCondition) {
   EXPECT_EQ(rows[0].rfind("reference,293 K,reference-293K-s1,", 0), 0u) << rows[0];
   EXPECT_EQ(rows[1].rfind("binder_x2,0.54 GPa,binder_x2-0.54GPa-s1,", 0), 0u) << rows[1];
   EXPECT_NE(rows[1].find("f2314 0.56/0.14, 0.042"), std::string::npos) << rows[1];
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+// What the report says is what the analysis found: the model card's constants are fits.json's
+// (Eq. 13's nonlinear sigma0, alpha; Eq. 14's A, B, n), its elastic table and the report's Table 2 CSV hold the
+// mean of each temperature's runs' analysis.json moduli, the Table 3 CSV their mean strength, and
+// the Eq. 13 fit's data each run's strength. A report script that copied a value from the wrong column, condition
+// or unit (GPa vs Pa) fails here; the synthetic runs' moduli (the paper's Table 2) are known.
+TEST(StudyReport, ModelCardAndTablesReadBackAsTheAnalysisFiles) {
+  const fs::path dir = make_study("readback");
+  build_report(dir.string(), kOptions);
+  const fs::path rep = dir / "report";
+  const Json fits = json_read_file((rep / "fits.json").string());
+  const Json card = json_read_file((rep / "model_card.json").string());
+  const Json& constants = *json_find(card, "constants");
+  auto card_value = [&](const char* k) { return json_number(*json_find(*json_find(constants, k), "value")); };
+  // fits.json: eq13's nonlinear fit, eq14's fit (a missing entry fails, not crashes)
+  auto fit_value = [&](const char* law, const char* fit, const char* p) {
+    const Json* l = json_find(fits, law);
+    const Json* f = l ? json_find(*l, fit) : nullptr;
+    const Json* ps = f ? json_find(*f, "parameters") : nullptr;
+    const Json* v = ps ? json_find(*ps, p) : nullptr;
+    const Json* value = v ? json_find(*v, "value") : nullptr;
+    EXPECT_TRUE(value) << law << "." << fit << ".parameters." << p;
+    return value ? json_number(*value) : std::nan("");
+  };
+  EXPECT_EQ(card_value("sigma0_Pa"), fit_value("eq13", "nonlinear", "sigma0"));
+  EXPECT_EQ(card_value("alpha"), fit_value("eq13", "nonlinear", "alpha"));
+  for (const char* p : {"A", "B", "n"}) EXPECT_EQ(card_value(p), fit_value("eq14", "fit", p)) << p;
+
+  // each temperature's runs, from their analysis.json
+  std::map<int, std::vector<Json>> by_t;
+  for (const auto& e : fs::directory_iterator(dir / "runs")) {
+    const std::string id = e.path().filename().string();
+    if (id.rfind("T", 0) != 0) continue;
+    by_t[std::stoi(id.substr(1, 3))].push_back(json_read_file((e.path() / "analysis.json").string()));
+  }
+  ASSERT_EQ(by_t.size(), 4u);
+  auto mean = [&](int T, const char* group, const char* key) {
+    double s = 0;
+    for (const Json& a : by_t[T]) s += json_number(*json_find(*json_find(a, group), key));
+    return s / static_cast<double>(by_t[T].size());
+  };
+  // the Table 2 and Table 3 CSVs: header, then one row per temperature
+  auto csv = [&](const char* file) {
+    std::ifstream in(rep / file);
+    std::string line;
+    std::vector<std::vector<std::string>> rows;
+    while (std::getline(in, line)) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      std::vector<std::string> cells;
+      std::stringstream ss(line);
+      for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+      rows.push_back(cells);
+    }
+    return rows;
+  };
+  const auto t2 = csv("table2_moduli_vs_temperature.csv");
+  const auto t3 = csv("table3_strength_vs_temperature.csv");
+  ASSERT_EQ(t2.size(), 5u);
+  ASSERT_GE(t3.size(), 5u);
+  auto col = [](const std::vector<std::string>& header, const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+  };
+  const int cT = col(t2[0], "T_K"), cK = col(t2[0], "K_GPa"), cG = col(t2[0], "G_GPa"), cE = col(t2[0], "E_GPa");
+  ASSERT_TRUE(cT >= 0 && cK >= 0 && cG >= 0 && cE >= 0) << "Table 2 header";
+  const Json& elastic = *json_find(card, "elastic");
+  for (std::size_t r = 1; r < t2.size(); ++r) {
+    const int T = std::stoi(t2[r][static_cast<std::size_t>(cT)]);
+    for (auto [c, key, card_key] :
+         {std::tuple{cK, "K_Pa", "K_Pa"}, std::tuple{cG, "G_Pa", "G_Pa"}, std::tuple{cE, "E_Pa", "E_Pa"}}) {
+      const double want = mean(T, "moduli", key);
+      EXPECT_NEAR(std::stod(t2[r][static_cast<std::size_t>(c)]) * 1e9, want, 1e-9 * want) << T << " K " << key;
+      EXPECT_NEAR(json_number(*json_find(*json_find(elastic, std::to_string(T)), card_key)), want, 1e-9 * want)
+          << "model card " << T << " K " << key;
+    }
+  }
+  // the synthetic runs' moduli are the paper's Table 2 (two seeds at 293 K: 2.79/2.83, 1.30/1.27 GPa),
+  // read back by the analysis to 1e-6 (K carries the +0.23 % sigma_zz bias of the synthetic runs)
+  EXPECT_NEAR(mean(333, "moduli", "G_Pa"), 1.09e9, 1e-4 * 1.09e9);
+  EXPECT_NEAR(mean(293, "moduli", "G_Pa"), 1.285e9, 1e-4 * 1.285e9);
+  const int sT = col(t3[0], "T_K"), sS = col(t3[0], "strength_MPa");
+  ASSERT_TRUE(sT >= 0 && sS >= 0) << "Table 3 header";
+  const Json& eq13 = *json_find(fits, "eq13");
+  const Json& fitted_T = *json_find(eq13, "T_K");
+  const Json& fitted_s = *json_find(eq13, "strength_Pa");
+  for (std::size_t r = 1; r < t3.size(); ++r) {
+    if (t3[r].size() <= static_cast<std::size_t>(std::max(sT, sS)) || t3[r][static_cast<std::size_t>(sT)].empty())
+      continue;
+    const int T = std::stoi(t3[r][static_cast<std::size_t>(sT)]);
+    if (!by_t.count(T)) continue;
+    const double want = mean(T, "strength", "strength_Pa");
+    EXPECT_NEAR(std::stod(t3[r][static_cast<std::size_t>(sS)]) * 1e6, want, 1e-9 * want) << T << " K strength";
+    // the Eq. 13 fit takes each run as a point: its points at T are that temperature's runs
+    std::vector<double> runs, points;
+    for (const Json& a : by_t[T]) runs.push_back(json_number(*json_find(*json_find(a, "strength"), "strength_Pa")));
+    for (std::size_t k = 0; k < fitted_T.size(); ++k)
+      if (static_cast<int>(json_number(fitted_T[k])) == T) points.push_back(json_number(fitted_s[k]));
+    std::sort(runs.begin(), runs.end());
+    std::sort(points.begin(), points.end());
+    EXPECT_EQ(points, runs) << T << " K in the Eq. 13 fit";
+  }
   if (!HasFailure()) fs::remove_all(dir);
 }
