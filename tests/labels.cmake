@@ -13,6 +13,7 @@ set(PBXMPM_LABELLED_TESTS
   engine ContactMask.ContactSumsOnThePaperSpecimenEqualAFullScatter slow
   contact InclinedPlane.FieldPlaneSlidesAtCoulombAccelerationOrSticks slow
   contact InclinedPlane.UsfAndMuslSlideAtCoulombAccelerationOrStick slow
+  contact InclinedPlane.NearTheFrictionLimitOnlyTheSuddenLoadsVibrationMakesABlockCreep slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticToTheEnd slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
