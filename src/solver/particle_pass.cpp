@@ -20,6 +20,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "solver/material_batch.hpp"
 #include "solver/solver.hpp"
 #include "solver/kinematics.hpp"
 
@@ -103,17 +104,8 @@ void Solver<D>::particle_pass_impl() {
           for (std::size_t m = 0; m < nm; ++m) {
             if (count[m] == 0) continue;
             auto& state = sc_.material_state[m];
-            MaterialBatch<D> batch;
-            batch.index =
-                std::span<const std::uint32_t>(state.index.data() + cursor[m], static_cast<std::size_t>(count[m]));
-            batch.L = P.L.data();
-            batch.F = P.F.data();
-            batch.mass = P.mass.data();
-            batch.volume = P.volume.data();
-            batch.volume0 = P.volume0.data();
-            batch.stress = P.stress.data();
-            batch.history = state.history.data() + cursor[m] * sc_.materials[m]->history_size();
-            batch.dt = dt;
+            const MaterialBatch<D> batch =
+                material_batch<D>(P, state, sc_.materials[m]->history_size(), cursor[m], count[m], dt);
             const MaterialStepResult r = sc_.materials[m]->update(batch);
             res.stress_work += r.stress_work;
             res.dissipated += r.dissipated;

@@ -12,6 +12,7 @@
 #include "contact/rigid_contact.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "solver/material_batch.hpp"
 
 namespace pbx {
 
@@ -723,16 +724,7 @@ void Solver<D>::update_stress() {
         P.volume[p] = J * P.volume0[p];
       }
       if (worst == kNone) {
-        MaterialBatch<D> batch;
-        batch.index = std::span<const std::uint32_t>(st.index.data() + b, static_cast<std::size_t>(e - b));
-        batch.L = P.L.data();
-        batch.F = P.F.data();
-        batch.mass = P.mass.data();
-        batch.volume = P.volume.data();
-        batch.volume0 = P.volume0.data();
-        batch.stress = P.stress.data();
-        batch.history = st.history.data() + b * hs;
-        batch.dt = dt;
+        const MaterialBatch<D> batch = material_batch<D>(P, st, hs, b, e - b, dt);
         res[static_cast<std::size_t>(c)] = mat.update(batch);
         for (long k = b; k < e; ++k) {
           const std::uint32_t p = st.index[static_cast<std::size_t>(k)];

@@ -23,6 +23,7 @@
 
 #include "scene_fixture.hpp"
 #include "solver/kinematics.hpp"
+#include "solver/material_batch.hpp"
 
 using namespace pbx;
 
@@ -150,16 +151,8 @@ void reference_step(Scene<2>& sc, double dt) {
   // stress update, one batch per material
   for (std::size_t k = 0; k < sc.materials.size(); ++k) {
     auto& st = sc.material_state[k];
-    MaterialBatch<2> b;
-    b.index = std::span<const std::uint32_t>(st.index.data(), st.index.size());
-    b.L = P.L.data();
-    b.F = P.F.data();
-    b.mass = P.mass.data();
-    b.volume = P.volume.data();
-    b.volume0 = P.volume0.data();
-    b.stress = P.stress.data();
-    b.history = st.history.data();
-    b.dt = dt;
+    const MaterialBatch<2> b =
+        material_batch<2>(P, st, sc.materials[k]->history_size(), 0, static_cast<long>(st.index.size()), dt);
     sc.materials[k]->update(b);
   }
 }
