@@ -446,6 +446,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   j["temperature_K"] = sc_.control.temperature;
   j["mass_scaling"] = sc_.settings.mass_scaling;
   j["ramp_strain"] = sc_.die ? sc_.die->ramp_strain : 0.0;
+  j["punch_velocity_m_s"] = sc_.die ? Json(sc_.die->punch_velocity) : Json();
   j["end_strain"] = sc_.control.end_strain;
   j["specimen"] = specimen;
   j["study"] = opt_.study;

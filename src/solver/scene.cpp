@@ -200,7 +200,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     die.width = die_t->positive("width", dim::length);
     die.height = die_t->positive("height", dim::length);
     die.punch_velocity = die_t->positive("punch_velocity", dim::velocity);
-    die.ramp_strain = die_t->number("ramp_strain", 0.002);
+    die.ramp_strain = die_t->number("ramp_strain", kDefaultRampStrain);
     if (!(die.ramp_strain >= 0 && die.ramp_strain < 1)) die_t->fail("ramp_strain", "must lie in [0, 1)");
     wall_cells = int_in(*die_t, "wall_cells", 1, 1000, 2);
     for (auto [key, len] : {std::pair{"width", die.width}, std::pair{"height", die.height}}) {

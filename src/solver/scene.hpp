@@ -39,6 +39,10 @@ struct MaterialState {
 
 // The die of the paper (Fig. 1a): specimen in [0, width] x [0, height]; walls and punch are
 // rigid bodies. Indices point into Scene::bodies.
+// die.ramp_strain when a deck does not give it (one value for the scene and everything that reads
+// a run's punch timing back)
+inline constexpr double kDefaultRampStrain = 0.002;
+
 struct Die {
   double width = 0, height = 0;  // m (initial specimen box)
   double punch_velocity = 0;     // m/s, magnitude (the punch moves in -y)

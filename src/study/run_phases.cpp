@@ -8,6 +8,7 @@
 #include "core/units.hpp"
 #include "io/deck.hpp"
 #include "materials/point_driver.hpp"
+#include "solver/scene.hpp"
 
 namespace pbx {
 namespace {
@@ -50,9 +51,18 @@ RunPhases run_phases(const StudyRun& run) {
     throw InputError(fmt::format("{}/analysis.json: no linear window (linear_window.lo/hi)", run.dir));
 
   const Deck deck = Deck::from_file((dir / "deck.toml").string());
+  // The punch timing as the run had it: run.json records the ramp, the speed (since 2026-12-06) and
+  // the height; a run.json without them is read from the deck with the scene's own default ramp
+  // (this used to take 0 where the scene takes 0.002, so the phases of a deck without ramp_strain
+  // were evaluated at a loading time short by 0.2 % of strain).
   const DeckTable die = deck.root().table("die");
-  const double H = die.positive("height", dim::length), v = die.positive("punch_velocity", dim::velocity);
-  const double ramp = die.number("ramp_strain", 0.0);
+  const Json* rj_ramp = json_find(rj, "ramp_strain");
+  const Json* rj_v = json_find(rj, "punch_velocity_m_s");
+  const Json* rj_h = json_find(spec, "height_m");
+  const double H = rj_h && rj_h->is_number() ? json_number(*rj_h) : die.positive("height", dim::length);
+  const double v = rj_v && rj_v->is_number() ? json_number(*rj_v) : die.positive("punch_velocity", dim::velocity);
+  const double ramp =
+      rj_ramp && rj_ramp->is_number() ? json_number(*rj_ramp) : die.number("ramp_strain", kDefaultRampStrain);
   // The punch ramps its speed up linearly over 2 ramp H / v, so strain e >= ramp is reached at (e + ramp) H / v.
   out.load_time_s = (0.5 * (lo + hi) + ramp) * H / v;
 

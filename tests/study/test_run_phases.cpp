@@ -111,3 +111,22 @@ TEST(RunPhases, ARunWithoutALinearWindowIsNamed) {
     EXPECT_NE(std::string(e.what()).find("linear window"), std::string::npos) << e.what();
   }
 }
+
+// The loading time comes from the punch timing the run had: run.json's ramp, speed and height when
+// it records them, else the deck's with the scene's default ramp (0.002). Before 2026-12-06 a deck
+// without ramp_strain was read with a ramp of 0 here and 0.002 by the run.
+TEST(RunPhases, LoadingTimeUsesThePunchTimingTheRunHad) {
+  std::string deck = kDeck;
+  deck.replace(deck.find("ramp_strain = 0.004\n"), 20, "");
+  const RunPhases defaulted = run_phases(make_run("default_ramp", deck, kMaterials));
+  const double t_default = (0.012 + 0.002) * 1.2e-3 / 0.3;
+  EXPECT_NEAR(defaulted.load_time_s, t_default, 1e-12 * t_default);
+
+  StudyRun run = make_run("recorded", kDeck, kMaterials);
+  std::ofstream(fs::path(run.dir) / "run.json")
+      << R"({"temperature_K": 333, "ramp_strain": 0.001, "punch_velocity_m_s": 0.6,)"
+      << R"( "specimen": {"porosity": 0.1, "height_m": 0.0024}, "materials": )" << kMaterials << "}";
+  const RunPhases recorded = run_phases(run);
+  const double t_recorded = (0.012 + 0.001) * 2.4e-3 / 0.6;
+  EXPECT_NEAR(recorded.load_time_s, t_recorded, 1e-12 * t_recorded);
+}
