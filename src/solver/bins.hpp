@@ -64,6 +64,18 @@ struct StripBins {
     }
     return r;
   }
+  // After particle p (home strip `home`) moved to x: its stray flag set, `strays` counted up, and
+  // `left` lowered to p when its stencil would leave the grid. The tallies are the caller's (OpenMP
+  // reduction variables); collect_strays(strays) rebuilds the list after the pass.
+  template <int D>
+  Place relocate(const Grid<D>& g, double inv_h, const Vec<D>& x, long home, std::uint32_t p, std::uint32_t& left,
+                 long& strays_counted) {
+    const Place where = locate<D>(g, inv_h, x, home);
+    if (where == kOutside) left = std::min(left, p);
+    stray[p] = where == kStray;
+    strays_counted += where == kStray;
+    return where;
+  }
   // Rebuilds `strays` from the flags (after the positions changed); `count` strays are flagged.
   void collect_strays(long count) {
     strays.clear();

@@ -76,11 +76,7 @@ void Solver<D>::particle_pass_impl() {
           P.x[p] += dx;
           moved = std::max(moved, dx.cwiseAbs().maxCoeff() * inv_h);
           P.L[p] = r.L;
-          const auto where = bins_.locate<D>(g, inv_h, P.x[p], s);
-          place[static_cast<std::size_t>(q - c0)] = where;
-          if (where == StripBins::kOutside) left = std::min(left, p);
-          bins_.stray[p] = where == StripBins::kStray;
-          strays += where == StripBins::kStray;
+          place[static_cast<std::size_t>(q - c0)] = bins_.relocate<D>(g, inv_h, P.x[p], s, p, left, strays);
           const double sp2 = vnew.squaredNorm();  // sqrt once, of the maximum (monotonic)
           if (!(sp2 < 1e300)) bad_v = std::min(bad_v, p);
           vmax2 = std::max(vmax2, sp2);

@@ -586,10 +586,7 @@ void Solver<D>::g2p_impl() {
         } else {
           P.x[p] += dt * r.vpic;
           if (usl) P.L[p] = r.L;
-          const auto place = bins_.locate<D>(g, inv_h, P.x[p], s);
-          if (place == StripBins::kOutside) left = std::min(left, p);
-          bins_.stray[p] = place == StripBins::kStray;
-          strays += place == StripBins::kStray;
+          bins_.relocate<D>(g, inv_h, P.x[p], s, p, left, strays);
         }
         const double sp2 = vnew.squaredNorm();  // sqrt once, of the maximum (monotonic)
         if (!(sp2 < 1e300)) bad = std::min(bad, p);
@@ -649,10 +646,7 @@ void Solver<D>::remap_gradient_impl() {
       });
       P.L[p] = L;
       P.x[p] += dt * vpic;
-      const auto place = bins_.locate<D>(g, inv_h, P.x[p], s);
-      if (place == StripBins::kOutside) left = std::min(left, p);
-      bins_.stray[p] = place == StripBins::kStray;
-      strays += place == StripBins::kStray;
+      bins_.relocate<D>(g, inv_h, P.x[p], s, p, left, strays);
     }
   }
   left_grid_ = left;
