@@ -137,11 +137,6 @@ struct ClampedNodes {
     lo.fill(-kNone);
     hi.fill(kNone);
   }
-  bool any() const {
-    for (int d = 0; d < D; ++d)
-      if (lo[d] != -kNone || hi[d] != kNone) return true;
-    return false;
-  }
 };
 
 // kernel_1d<bspline2> with the basis clamped at node lines lo and hi (s in cells from the origin).
