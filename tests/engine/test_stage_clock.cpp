@@ -37,7 +37,9 @@ TEST(StageClock, StagesOfTheDieBlockAddUpToItsSteps) {
   const StageClock& c = solver.stage_clock();
   EXPECT_LE(c.total(), wall);
   EXPECT_GT(c.total(), 0.8 * wall);  // what lies outside the stages: the time step, a few calls
-  for (const Stage s : {Stage::p2g, Stage::g2p, Stage::stress}) EXPECT_GT(c.seconds(s), 0.05 * c.total());
+  // a real share: 2 % (Release 10-40 % each; under ASan/UBSan one of them fell to 4 % on 2026-12-06,
+  // the instrumented rigid-contact stage growing) - a split that booked the fused pass elsewhere gives 0
+  for (const Stage s : {Stage::p2g, Stage::g2p, Stage::stress}) EXPECT_GT(c.seconds(s), 0.02 * c.total());
   for (const Stage s : {Stage::rigid_p2g, Stage::reset, Stage::contact, Stage::grid_update, Stage::bodies})
     EXPECT_GT(c.seconds(s), 0.0);
 }
