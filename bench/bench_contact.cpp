@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "io/deck.hpp"
+#include "setup/build_scene.hpp"
 #include "solver/solver.hpp"
 
 using namespace pbx;

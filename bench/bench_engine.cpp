@@ -15,6 +15,7 @@
 #include <omp.h>
 
 #include "io/deck.hpp"
+#include "setup/build_scene.hpp"
 #include "solver/solver.hpp"
 #include "step_timing.hpp"
 

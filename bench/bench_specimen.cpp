@@ -20,6 +20,7 @@
 #include <omp.h>
 
 #include "io/deck.hpp"
+#include "setup/build_scene.hpp"
 #include "io/deck_override.hpp"
 #include "solver/solver.hpp"
 #include "step_timing.hpp"

@@ -8,13 +8,14 @@
 #include <fmt/format.h>
 
 #include "app/commands.hpp"
+#include "setup/build_scene.hpp"
 #include "core/error.hpp"
 #include "io/deck.hpp"
 #include "io/deck_override.hpp"
 #include <filesystem>
 
 #include "io/checkpoint.hpp"
-#include "solver/runner.hpp"
+#include "run/runner.hpp"
 #include "study/study.hpp"
 
 namespace pbx::app {

@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/units.hpp"
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 #include "materials/point_driver.hpp"
 
 namespace pbx {
@@ -36,7 +36,7 @@ void LayerLaw::at_time(double t) {
   kt = shear[lo] + s * (shear[hi] - shear[lo]);
 }
 
-LayerLaw read_layer_law(const DeckTable& t) {
+LayerLaw read_layer_law(const ParamTable& t) {
   LayerLaw law;
   law.friction = t.number("friction");
   if (!(law.friction >= 0.0))
@@ -125,7 +125,7 @@ LayerLaw read_layer_law(const DeckTable& t) {
   return law;
 }
 
-void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, const DeckTable& where) {
+void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, const ParamTable& where) {
   if (law.binder.empty()) return;
   const bool elapsed = law.load_time == 0.0;
   // past the run's end time, so the table covers every step (the last one may overshoot)

@@ -15,7 +15,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 struct LayerLaw {
   // The law's table against time: with a binder, its secant moduli M_b(t_k), G_b(t_k) in Pa (the
@@ -68,10 +68,10 @@ struct LayerLaw {
 // default) and closure (1); bond_gap (a length, 0 by default, or "thickness"); film ("uniform" or "integrated")
 // and film_extent (4, a multiple of t). The binder moduli are filled
 // in later by layer_moduli (they need the material and the run's temperature and duration).
-LayerLaw read_layer_law(const DeckTable& t);
+LayerLaw read_layer_law(const ParamTable& t);
 
 // Fills law.time/normal/shear from the binder material at the run's temperature: secant moduli
 // over [0, t] for t up to end_time (load_time = "elapsed"), or at the fixed load time.
-void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, const DeckTable& where);
+void layer_moduli(LayerLaw& law, const Material<3>& binder, double end_time, const ParamTable& where);
 
 }  // namespace pbx

@@ -3,13 +3,11 @@
 // pair of *materials* ([contact] table); fields inherit the law of their materials, so two TATB
 // grains on different fields (colours) use the ("tatb", "tatb") entry.
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "contact/binder_layer.hpp"
 #include "contact/law_registry.hpp"
-#include "io/deck.hpp"
 
 namespace pbx {
 
@@ -56,11 +54,6 @@ struct ContactMatrix {
     for (auto& l : layers) l.at_time(t);
   }
 };
-
-// Reads the optional [contact] table. field_material[f] is the material index of field f's
-// particles (-1 when a field mixes materials: it then uses the default law).
-ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const std::vector<int>& field_material,
-                                  const std::vector<std::string>& material_names);
 
 const char* to_string(ContactLaw law);
 

@@ -2,7 +2,7 @@
 // Contact laws registered at run time, by name: a law written like the built-in ones (a struct with
 // `needs_normal` and `exchange(const NodeContact<D>&)` for D = 2 and 3, contact/law_coulomb.hpp is
 // the model) becomes a law a deck can name in [contact] or [[contact.pair]] with one call,
-//   register_contact_law<MyLaw>("my_law", [](const DeckTable& t) { return MyLaw{t.number("k")}; });
+//   register_contact_law<MyLaw>("my_law", [](const ParamTable& t) { return MyLaw{t.number("k")}; });
 // The function reads the law's own keys from the deck table (the table's unknown keys are still
 // refused). Built-in laws are dispatched by a switch (contact/field_contact.cpp); a registered one
 // costs one virtual call per exchange. docs/extending.md "A contact law".
@@ -15,7 +15,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class ContactLawPlugin {
  public:
@@ -25,7 +25,7 @@ class ContactLawPlugin {
   virtual Exchange<3> exchange(const NodeContact<3>& c) const = 0;
 };
 
-using ContactLawReader = std::function<std::shared_ptr<const ContactLawPlugin>(const DeckTable&)>;
+using ContactLawReader = std::function<std::shared_ptr<const ContactLawPlugin>(const ParamTable&)>;
 
 // Registers a reader under `name`; throws std::invalid_argument for a name that is taken (a
 // built-in law's or a registered one's) or not a lower-case identifier.
@@ -51,7 +51,7 @@ class PluginOf final : public ContactLawPlugin {
 
 template <class Law, class Read>
 void register_contact_law(const std::string& name, Read read) {
-  register_contact_law_reader(name, [read](const DeckTable& t) -> std::shared_ptr<const ContactLawPlugin> {
+  register_contact_law_reader(name, [read](const ParamTable& t) -> std::shared_ptr<const ContactLawPlugin> {
     return std::make_shared<detail::PluginOf<Law>>(read(t));
   });
 }

@@ -7,27 +7,30 @@
 #include <string>
 #include <vector>
 
+#include "core/param_table.hpp"
 #include "core/units.hpp"
 
 namespace pbx {
 
 class Deck;
 
-class DeckTable {
+// A table of a deck: the parameter interface models read (core/param_table.hpp) plus the deck's
+// structure (sub-tables), which only the setup layer walks.
+class DeckTable final : public ParamTable {
  public:
   // Dotted path of this table inside the deck, e.g. "materials.tatb" ("" for the root).
-  const std::string& path() const { return path_; }
-  bool has(const std::string& key) const;
-  std::vector<std::string> keys() const;
+  const std::string& path() const override { return path_; }
+  bool has(const std::string& key) const override;
+  std::vector<std::string> keys() const override;
 
   // Required when no default is given. Errors name the key and line.
-  double quantity(const std::string& key, const Dimension& d, std::optional<double> def = {}) const;
-  double number(const std::string& key, std::optional<double> def = {}) const;
-  long integer(const std::string& key, std::optional<long> def = {}) const;
-  bool boolean(const std::string& key, std::optional<bool> def = {}) const;
-  std::string string(const std::string& key, std::optional<std::string> def = {}) const;
-  std::vector<double> quantities(const std::string& key, const Dimension& d) const;
-  std::vector<std::string> strings(const std::string& key) const;
+  double quantity(const std::string& key, const Dimension& d, std::optional<double> def = {}) const override;
+  double number(const std::string& key, std::optional<double> def = {}) const override;
+  long integer(const std::string& key, std::optional<long> def = {}) const override;
+  bool boolean(const std::string& key, std::optional<bool> def = {}) const override;
+  std::string string(const std::string& key, std::optional<std::string> def = {}) const override;
+  std::vector<double> quantities(const std::string& key, const Dimension& d) const override;
+  std::vector<std::string> strings(const std::string& key) const override;
 
   // Marks a key and everything under it as read whatever its type (values checked elsewhere, e.g.
   // study overrides, which may be whole arrays of tables such as "contact.pair").
@@ -38,16 +41,16 @@ class DeckTable {
   std::vector<DeckTable> tables(const std::string& key) const;  // array of tables ([[key]])
 
   // Range checks that name the key: throw InputError unless the condition holds.
-  double positive(const std::string& key, const Dimension& d, std::optional<double> def = {}) const;
-  double non_negative(const std::string& key, const Dimension& d, std::optional<double> def = {}) const;
-  double in_range(const std::string& key, double lo, double hi, std::optional<double> def = {}) const;
+  double positive(const std::string& key, const Dimension& d, std::optional<double> def = {}) const override;
+  double non_negative(const std::string& key, const Dimension& d, std::optional<double> def = {}) const override;
+  double in_range(const std::string& key, double lo, double hi, std::optional<double> def = {}) const override;
 
   // Throws InputError "<file>:<line>: <path.key>: <msg>".
-  [[noreturn]] void fail(const std::string& key, const std::string& msg) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const override;
   // Throws InputError naming the first key of this table (and its sub-tables) never read: for a
   // command that reads one table of a deck whose other tables it ignores.
   void check_unused() const;
-  std::string where(const std::string& key) const;  // "file:line: path.key"
+  std::string where(const std::string& key) const override;  // "file:line: path.key"
 
  private:
   friend class Deck;

@@ -1,10 +1,10 @@
 #include "materials/elastic_deviator.hpp"
 
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 
 namespace pbx {
 
-ElasticDeviator ElasticDeviator::from_deck(const DeckTable& t, const SolidSetup&) {
+ElasticDeviator ElasticDeviator::from_params(const ParamTable& t, const SolidSetup&) {
   return ElasticDeviator(t.positive("shear_modulus", dim::pressure));
 }
 

@@ -8,13 +8,13 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class ElasticDeviator {
  public:
   static constexpr const char* name = "elastic";
   static std::vector<std::string> keys() { return {"shear_modulus"}; }
-  static ElasticDeviator from_deck(const DeckTable& t, const SolidSetup& s);
+  static ElasticDeviator from_params(const ParamTable& t, const SolidSetup& s);
   explicit ElasticDeviator(double G) : G_(G) {}
 
   struct Step {};

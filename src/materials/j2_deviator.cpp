@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 
 namespace pbx {
 
-J2Deviator J2Deviator::from_deck(const DeckTable& t, const SolidSetup&) {
+J2Deviator J2Deviator::from_params(const ParamTable& t, const SolidSetup&) {
   Params p;
   p.G = t.positive("shear_modulus", dim::pressure);
   p.sigma0 = t.positive("yield_stress", dim::pressure);

@@ -20,7 +20,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class J2Deviator {
  public:
@@ -37,7 +37,7 @@ class J2Deviator {
     return {"shear_modulus",  "yield_stress",     "hardening_modulus",
             "hardening_beta", "cowper_symonds_c", "cowper_symonds_p"};
   }
-  static J2Deviator from_deck(const DeckTable& t, const SolidSetup& s);
+  static J2Deviator from_params(const ParamTable& t, const SolidSetup& s);
   explicit J2Deviator(const Params& p) : p_(p), kinematic_(p.beta < 1.0 && p.Ep > 0.0) {}
   const Params& params() const { return p_; }
 

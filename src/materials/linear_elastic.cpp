@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 #include "materials/models.hpp"
 #include "materials/objective_rotation.hpp"
 
@@ -77,7 +77,7 @@ class LinearElastic final : public Material<D> {
 }  // namespace
 
 template <int D>
-std::unique_ptr<Material<D>> make_linear_elastic(const DeckTable& t, const MaterialContext&) {
+std::unique_ptr<Material<D>> make_linear_elastic(const ParamTable& t, const MaterialContext&) {
   const double rho = t.positive("density", dim::density);
   // the densest element is 22,590 kg/m3: far above it is a unit slip (g/cm3 written as kg/m3 x 1000)
   if (rho > 1e5) t.fail("density", fmt::format("{} kg/m3 exceeds 1e5 kg/m3 (100 g/cm3): check the unit", rho));
@@ -101,7 +101,7 @@ std::unique_ptr<Material<D>> make_linear_elastic(const DeckTable& t, const Mater
   return std::make_unique<LinearElastic<D>>(rho, K, G);
 }
 
-template std::unique_ptr<Material<2>> make_linear_elastic<2>(const DeckTable&, const MaterialContext&);
-template std::unique_ptr<Material<3>> make_linear_elastic<3>(const DeckTable&, const MaterialContext&);
+template std::unique_ptr<Material<2>> make_linear_elastic<2>(const ParamTable&, const MaterialContext&);
+template std::unique_ptr<Material<3>> make_linear_elastic<3>(const ParamTable&, const MaterialContext&);
 
 }  // namespace pbx

@@ -14,7 +14,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 // Conditions a material is built for: runs are isothermal at `temperature`.
 struct MaterialContext {
@@ -71,15 +71,15 @@ inline double stress_work(const Sym3& s0, const Sym3& s1, const Sym3& Ddt, doubl
 
 // Builds the material described by deck table `t` (its `model` key picks the law).
 template <int D>
-std::unique_ptr<Material<D>> make_material(const DeckTable& t, const MaterialContext& ctx);
+std::unique_ptr<Material<D>> make_material(const ParamTable& t, const MaterialContext& ctx);
 
 // Names of every registered model, built in or registered (for error messages and docs).
 std::vector<std::string> material_models();
 
 // A model's factory: reads the model's keys from its deck table (refusing any it does not take,
-// DeckTable::fail naming the key) and builds the law for the run's conditions.
+// ParamTable::fail naming the key) and builds the law for the run's conditions.
 template <int D>
-using MaterialFactory = std::function<std::unique_ptr<Material<D>>(const DeckTable&, const MaterialContext&)>;
+using MaterialFactory = std::function<std::unique_ptr<Material<D>>(const ParamTable&, const MaterialContext&)>;
 
 // Adds a model under `name` (lower-case letters, digits, '_'), for both the built-in ones' route
 // and a program's own laws (docs/extending.md): one call, before the decks that use it are read.

@@ -12,10 +12,10 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "eos/linear_bulk.hpp"
-#include "eos/mie_gruneisen.hpp"
-#include "eos/tait.hpp"
-#include "io/deck.hpp"
+#include "materials/linear_bulk.hpp"
+#include "materials/mie_gruneisen.hpp"
+#include "materials/tait.hpp"
+#include "core/param_table.hpp"
 #include "materials/elastic_deviator.hpp"
 #include "materials/j2_deviator.hpp"
 #include "materials/material.hpp"
@@ -32,16 +32,16 @@ using Deviators = TypeList<ElasticDeviator, J2Deviator, PronyDeviator>;
 using EquationsOfState = TypeList<LinearBulkEos, MieGruneisenEos, TaitEos>;
 
 template <int D>
-std::unique_ptr<Material<D>> make_linear_elastic(const DeckTable& t, const MaterialContext& ctx);
+std::unique_ptr<Material<D>> make_linear_elastic(const ParamTable& t, const MaterialContext& ctx);
 
 // Keys every composed material reads, and its thermal setup (rho0 at the run temperature).
 std::vector<std::string> solid_common_keys();
-SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx);
+SolidSetup read_solid_setup(const ParamTable& t, const MaterialContext& ctx);
 
 // A composed material from its deck table: the common keys, the deviator's and the EOS's, and no
 // other (a typo is an error naming the key and the keys the model takes).
 template <int D, class Dev, class Eos>
-std::unique_ptr<Material<D>> make_solid(const DeckTable& t, const MaterialContext& ctx) {
+std::unique_ptr<Material<D>> make_solid(const ParamTable& t, const MaterialContext& ctx) {
   auto allowed = solid_common_keys();
   for (auto& k : Dev::keys()) allowed.push_back(k);
   for (auto& k : Eos::keys()) allowed.push_back(k);
@@ -50,7 +50,7 @@ std::unique_ptr<Material<D>> make_solid(const DeckTable& t, const MaterialContex
       t.fail(k, fmt::format("unknown key for model '{}' (known: {})", Solid<D, Dev, Eos>::model_name(),
                             fmt::join(allowed, ", ")));
   const SolidSetup s = read_solid_setup(t, ctx);
-  return std::make_unique<Solid<D, Dev, Eos>>(s, Dev::from_deck(t, s), Eos::from_deck(t, s));
+  return std::make_unique<Solid<D, Dev, Eos>>(s, Dev::from_params(t, s), Eos::from_params(t, s));
 }
 
 }  // namespace pbx

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 
 namespace pbx {
 
@@ -15,7 +15,7 @@ std::vector<std::string> PronyDeviator::keys() {
 }
 
 namespace {
-void read_series(const DeckTable& t, const std::string& mkey, const std::string& tkey, std::vector<double>& m,
+void read_series(const ParamTable& t, const std::string& mkey, const std::string& tkey, std::vector<double>& m,
                  std::vector<double>& tau) {
   m = t.quantities(mkey, dim::pressure);
   tau = t.quantities(tkey, dim::time);
@@ -27,15 +27,15 @@ void read_series(const DeckTable& t, const std::string& mkey, const std::string&
 }
 }  // namespace
 
-PronyDeviator PronyDeviator::from_deck(const DeckTable& t, const SolidSetup& s) {
+PronyDeviator PronyDeviator::from_params(const ParamTable& t, const SolidSetup& s) {
   Params p;
   p.G_inf = t.non_negative("long_term_shear_modulus", dim::pressure);
   read_series(t, "prony_shear_moduli", "prony_shear_times", p.G, p.tau);
   if (p.G.empty()) t.fail("prony_shear_moduli", "must list at least one Prony term");
   if (t.has("prony_bulk_moduli") || t.has("prony_bulk_times"))
     read_series(t, "prony_bulk_moduli", "prony_bulk_times", p.K, p.tauK);
-  p.shift = TimeTemperatureShift::from_deck(t);
-  double aT;
+  p.shift = TimeTemperatureShift::from_params(t);
+  double aT = 0.0;  // set below, or t.fail throws
   try {
     aT = p.shift.factor(s.temperature, s.reference_temperature);
   } catch (const std::exception& e) {

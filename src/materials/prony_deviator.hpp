@@ -21,7 +21,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class PronyDeviator {
  public:
@@ -33,7 +33,7 @@ class PronyDeviator {
   };
   static constexpr const char* name = "viscoelastic";
   static std::vector<std::string> keys();
-  static PronyDeviator from_deck(const DeckTable& t, const SolidSetup& s);
+  static PronyDeviator from_params(const ParamTable& t, const SolidSetup& s);
   // a_T: shift factor at the run temperature (relaxation times are tau a_T).
   PronyDeviator(const Params& p, double a_T);
   const Params& params() const { return p_; }

@@ -8,7 +8,7 @@
 #include <fmt/ranges.h>
 
 #include "core/error.hpp"
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 #include "materials/material.hpp"
 #include "materials/models.hpp"
 
@@ -76,7 +76,7 @@ std::vector<std::string> material_models() {
 }
 
 template <int D>
-std::unique_ptr<Material<D>> make_material(const DeckTable& t, const MaterialContext& ctx) {
+std::unique_ptr<Material<D>> make_material(const ParamTable& t, const MaterialContext& ctx) {
   const std::string model = t.string("model");
   MaterialFactory<D> factory;
   std::vector<std::string> known;  // this dimension's models: one registered for 3-D only is not offered in 2-D
@@ -94,7 +94,7 @@ std::unique_ptr<Material<D>> make_material(const DeckTable& t, const MaterialCon
 
 template void register_material<2>(const std::string&, MaterialFactory<2>);
 template void register_material<3>(const std::string&, MaterialFactory<3>);
-template std::unique_ptr<Material<2>> make_material<2>(const DeckTable&, const MaterialContext&);
-template std::unique_ptr<Material<3>> make_material<3>(const DeckTable&, const MaterialContext&);
+template std::unique_ptr<Material<2>> make_material<2>(const ParamTable&, const MaterialContext&);
+template std::unique_ptr<Material<3>> make_material<3>(const ParamTable&, const MaterialContext&);
 
 }  // namespace pbx

@@ -10,10 +10,10 @@
 #include <fmt/ranges.h>
 
 #include "core/error.hpp"
-#include "eos/linear_bulk.hpp"
-#include "eos/mie_gruneisen.hpp"
-#include "eos/tait.hpp"
-#include "io/deck.hpp"
+#include "materials/linear_bulk.hpp"
+#include "materials/mie_gruneisen.hpp"
+#include "materials/tait.hpp"
+#include "core/param_table.hpp"
 #include "materials/elastic_deviator.hpp"
 #include "materials/j2_deviator.hpp"
 #include "materials/models.hpp"
@@ -25,7 +25,7 @@ std::vector<std::string> solid_common_keys() {
   return {"model", "density", "reference_temperature", "thermal_expansion"};
 }
 
-SolidSetup read_solid_setup(const DeckTable& t, const MaterialContext& ctx) {
+SolidSetup read_solid_setup(const ParamTable& t, const MaterialContext& ctx) {
   SolidSetup s;
   s.name = ctx.name.empty() ? t.path() : ctx.name;
   s.temperature = ctx.temperature;

@@ -5,11 +5,11 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 
 namespace pbx {
 
-TimeTemperatureShift TimeTemperatureShift::from_deck(const DeckTable& t) {
+TimeTemperatureShift TimeTemperatureShift::from_params(const ParamTable& t) {
   TimeTemperatureShift s;
   const std::string kind = t.string("shift", "none");
   if (kind == "none") {

@@ -8,7 +8,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 struct TimeTemperatureShift {
   enum class Kind { none, arrhenius, wlf };
@@ -19,7 +19,7 @@ struct TimeTemperatureShift {
   static constexpr double gas_constant = 8.31446261815324;  // J/(mol K)
   static std::vector<std::string> keys() { return {"shift", "activation_energy", "wlf_c1", "wlf_c2"}; }
   // Reads `shift` ("none", "arrhenius", "wlf") and its constants.
-  static TimeTemperatureShift from_deck(const DeckTable& t);
+  static TimeTemperatureShift from_params(const ParamTable& t);
   // a_T at T for a series referred to Tref; throws InputError (via `t` if given) when undefined.
   double factor(double T, double Tref) const;
 };

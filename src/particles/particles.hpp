@@ -1,7 +1,7 @@
 #pragma once
 // Material points as structure-of-arrays. Storage order never changes during a run, so material
 // batches and history slots stay valid; build_scene orders the particles strip by strip (the
-// solver's scatter strips, solver/bins.hpp) before the batches are made, so that the solver's
+// solver's scatter strips, grid/strip_bins.hpp) before the batches are made, so that the solver's
 // per-strip loops sweep memory linearly.
 #include <cstdint>
 #include <algorithm>

@@ -1,5 +1,5 @@
 // The fused particle pass of the USL step: G2P -> stress update -> P2G of the next step, run chunk
-// by chunk over each strip's particles (solver/bins.hpp). Each particle's data are read from
+// by chunk over each strip's particles (grid/strip_bins.hpp). Each particle's data are read from
 // memory once per step instead of once per stage, and a step has two parallel particle loops
 // instead of five. The stages are the same as in the unfused step, in the same order for every
 // particle, calling the same kernels (solver/transfer.hpp, the material plug-ins):
@@ -41,8 +41,8 @@ void Solver<D>::particle_pass_impl() {
   const long nn = g.nodes();
   const std::size_t nm = sc_.materials.size();
   Scatter<D> scatter_one = scatter(true, true);
-  if (offset_bases_valid_) scatter_one.offset_bases = offset_bases_.data();
-  if (contact_bases_valid_) scatter_one.contact_bases = contact_bases_.data();
+  scatter_one.offset_bases = masks_.offset_bases();
+  scatter_one.contact_bases = masks_.contact_bases();
   // per chunk, summed in chunk order after the pass (thread-count independent)
   std::vector<MaterialStepResult> results(static_cast<std::size_t>(chunk_begin_.back()));
   double vmax2 = 0, moved = 0;  // moved: the largest step of a particle along an axis, cells
@@ -136,8 +136,8 @@ void Solver<D>::particle_pass_impl() {
   // A particle that moved a cell or more may have met a field the contact mask did not foresee:
   // the next step's sums are made again in full (never seen in a stable run; the order of the
   // stand-alone P2G is the pass's, so the bits are the same as an unmasked pass).
-  if (contact_bases_valid_ && !(moved < 1.0) && bad_v == kNone && bad_s == kNone) {
-    contact_bases_valid_ = false;
+  if (masks_.contact_valid() && !(moved < 1.0) && bad_v == kNone && bad_s == kNone) {
+    masks_.drop_contact();
     reset_grid();
     p2g(true);
   }

@@ -1,11 +1,12 @@
 #pragma once
-// A Scene is everything a run needs, built from a validated deck: grid, particles, materials with
+// A Scene is everything a run needs (setup/build_scene.hpp builds one from a deck): grid, particles, materials with
 // their batches and history, rigid bodies (die walls and punch), solver settings, run control.
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "bodies/die.hpp"
 #include "bodies/rigid_body.hpp"
 #include "contact/contact_matrix.hpp"
 #include "grid/grid.hpp"
@@ -15,8 +16,6 @@
 #include "particles/particles.hpp"
 
 namespace pbx {
-
-class Deck;
 
 enum class Integrator { usf, usl, musl };
 
@@ -35,19 +34,6 @@ struct SolverSettings {
 struct MaterialState {
   std::vector<std::uint32_t> index;
   std::vector<double> history;
-};
-
-// The die of the paper (Fig. 1a): specimen in [0, width] x [0, height]; walls and punch are
-// rigid bodies. Indices point into Scene::bodies.
-// die.ramp_strain when a deck does not give it (one value for the scene and everything that reads
-// a run's punch timing back)
-inline constexpr double kDefaultRampStrain = 0.002;
-
-struct Die {
-  double width = 0, height = 0;  // m (initial specimen box)
-  double punch_velocity = 0;     // m/s, magnitude (the punch moves in -y)
-  double ramp_strain = 0;        // strain over which the punch speed ramps up smoothly
-  int left = -1, right = -1, bottom = -1, punch = -1;
 };
 
 struct RunControl {
@@ -83,21 +69,7 @@ struct Scene {
   std::string description;
 };
 
-// Whether building a scene prints its notes and warnings (re-colouring, shrunk grains, the
-// particles' porosity, rigid bodies over particles) to stderr. A study builds every run's scene
-// once to check it before starting and again when the run starts: it checks quietly, so each note
-// is printed once per run.
-enum class SceneNotes { print, quiet };
-
-// The deck's run.dimension: 2 (plane strain, the default) or 3. A caller builds build_scene<D>
-// with it; build_scene<D> refuses a deck of the other dimension.
-int deck_dimension(const Deck& deck);
-
-// Builds a scene from a deck; every key is validated (unknown keys are errors).
-template <int D>
-Scene<D> build_scene(const Deck& deck, SceneNotes notes = SceneNotes::print);
-
-// Orders the particles strip by strip (the solver's scatter strips, solver/bins.hpp), creation
+// Orders the particles strip by strip (the solver's scatter strips, grid/strip_bins.hpp), creation
 // order within a strip; material batches (in storage order), history rows and slots follow.
 // Leaves the scene as it is when particles and batches are already in that order (build_scene
 // orders them; the solver calls this again for scenes built by hand).

@@ -29,7 +29,6 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
   track_gradients_ = sc_.deformable_fields > 1;
   contact_tally_ = ContactTally<D>(sc_.deformable_fields);
-  static_presence_.resize(sc_.bodies.size());
 }
 
 template <int D>
@@ -219,7 +218,7 @@ Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
       offsets,  track_gradients_, sc_.grid.layers(),         for_contact};
 }
 
-// Even strips in parallel, then odd strips, then the strays serially (solver/bins.hpp).
+// Even strips in parallel, then odd strips, then the strays serially (grid/strip_bins.hpp).
 template <int D>
 template <Kernel K>
 void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
@@ -255,176 +254,21 @@ void Solver<D>::p2g_forces() {
 template <int D>
 template <Kernel K>
 void Solver<D>::rigid_p2g_impl() {
-  auto& g = sc_.grid;
-  const double inv_h = 1.0 / g.h;
-  const HalfWidth a(half_width_);
-  const long nn = g.nodes();
-  std::fill(g.presence.begin(), g.presence.end(), 0.0);
-  // the nodes where a moving body is present lie in [lo, hi] (a punch: a few node rows)
-  long lo = nn, hi = -1;
-  for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
-    auto& body = sc_.bodies[b];
-    double* gm = g.presence.data() + (body.field - g.deformable) * nn;
-    auto& cache = static_presence_[b];
-    if (!body.moving() && !cache.empty()) {
-      for (auto& [i, S] : cache) gm[i] += S;
-      continue;
-    }
-    for (std::size_t k = 0; k < body.x.size(); ++k) {
-      const Vec<D>& x = body.x[k];
-      const Stencil<D> st = make_stencil<D, K>(x, g.origin, inv_h, a);
-      // a moving body can leave the grid (the scene checks its particles at t = 0 only); its
-      // presence would then wrap to the next node row or be written past the end of the array
-      for (int d = 0; d < D; ++d)
-        if (st.base[d] < 0 || st.base[d] + 2 >= g.n[d])
-          throw InstabilityError(
-              fmt::format("step {} (t = {:.6g} s): rigid body '{}' left the grid (its particle {} at "
-                          "{:.6g} m along axis {}): enlarge the grid or stop the body earlier",
-                          steps_, t_, body.name, k, x[d], d));
-      for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
-        gm[i] += S;
-        lo = std::min(lo, i);
-        hi = std::max(hi, i);
-      });
-    }
-    if (!body.moving()) {
-      for (long i = 0; i < nn; ++i)
-        if (gm[i] > 0) cache.emplace_back(i, gm[i]);
-      static_nodes_listed_ = false;  // rebuilt below with this body's nodes
-    }
-  }
-  list_body_nodes(lo, hi);
+  presence_.template scatter<K>(sc_.grid, sc_.bodies, HalfWidth(half_width_), steps_, t_);
   mark_offset_bases<K>();
 }
 
-// The ascending list of nodes where any body is present, for the rigid contact stage: the static
-// bodies' nodes (listed once) merged with the moving bodies' nodes found in [lo, hi]. The stage
-// visited every node of the grid for every body before (≈ 2 % of the die benchmark).
-template <int D>
-void Solver<D>::list_body_nodes(long lo, long hi) {
-  const auto& g = sc_.grid;
-  const long nn = g.nodes();
-  std::vector<long> moving;
-  for (long i = lo; i <= hi; ++i)
-    for (std::size_t b = 0; b < sc_.bodies.size(); ++b)
-      if (sc_.bodies[b].moving() && g.rigid_presence(sc_.bodies[b].field, i) > 0) {
-        moving.push_back(i);
-        break;
-      }
-  if (!static_nodes_listed_) {
-    static_body_nodes_.clear();
-    std::vector<std::uint8_t> at(static_cast<std::size_t>(nn), 0);
-    for (std::size_t b = 0; b < sc_.bodies.size(); ++b)
-      if (!sc_.bodies[b].moving())
-        for (const auto& [i, S] : static_presence_[b]) at[static_cast<std::size_t>(i)] = 1;
-    for (long i = 0; i < nn; ++i)
-      if (at[static_cast<std::size_t>(i)]) static_body_nodes_.push_back(i);
-    static_nodes_listed_ = true;
-  }
-  body_nodes_.clear();
-  std::set_union(static_body_nodes_.begin(), static_body_nodes_.end(), moving.begin(), moving.end(),
-                 std::back_inserter(body_nodes_));
-}
-
-// Which particles' next P2G must carry mass-centre offsets. Where the rigid-body contact gate is
-// their only reader (no field position check, no binder_layer sums), only the nodes where a body
-// is present at the next step need them, and those lie within one node of this step's nodes as
-// long as no body moves half a cell in the step. A particle is marked by its stencil's base node:
-// the base of every 3 x 3 block that meets such a node. The offsets are 2 of the 7 nodal sums
-// the P2G scatters per node; in the die this leaves them out for all but a few particles near
-// the walls and the punch. The sums at the nodes the gate reads are unchanged to the bit.
 template <int D>
 template <Kernel K>
 void Solver<D>::mark_offset_bases() {
-  auto& g = sc_.grid;
-  offset_bases_valid_ = false;
-  if constexpr (D == 2) {
-    // only the fused USL pass reads the mask
-    // (where the field contact reads the offsets too, mark_contact_bases gates them for it)
-    if (sc_.settings.integrator != Integrator::usl || sc_.bodies.empty()) return;
-    const double inv_h = 1.0 / g.h;
-    const HalfWidth a(half_width_);
-    for (const auto& body : sc_.bodies)
-      if (body.moving()) {
-        const Vec<D> u = body.displacement_at(t_ + dt_) - body.displacement_at(t_);
-        if (!(u.cwiseAbs().maxCoeff() < 0.5 * g.h)) return;  // mark every particle this step
-      }
-    const long nx = g.n[0], ny = g.n[1];
-    // bases i with [i, i + 2] meeting [lo, hi], per axis, clamped to the grid
-    auto mark = [&](std::vector<std::uint8_t>& m, long x_lo, long x_hi, long y_lo, long y_hi) {
-      for (long y = std::max(0L, y_lo - 2); y <= std::min(ny - 1, y_hi); ++y)
-        for (long x = std::max(0L, x_lo - 2); x <= std::min(nx - 1, x_hi); ++x)
-          m[static_cast<std::size_t>(x + y * nx)] = 1;
-    };
-    if (static_offset_bases_.empty()) {  // static bodies: their nodes, once
-      static_offset_bases_.assign(static_cast<std::size_t>(g.nodes()), 0);
-      for (std::size_t b = 0; b < sc_.bodies.size(); ++b)
-        if (!sc_.bodies[b].moving())
-          for (const auto& [i, S] : static_presence_[b]) mark(static_offset_bases_, i % nx, i % nx, i / nx, i / nx);
-    }
-    offset_bases_ = static_offset_bases_;
-    // moving bodies: the nodes of each rigid particle's stencil, grown by one node
-    for (const auto& body : sc_.bodies)
-      if (body.moving())
-        for (const auto& x : body.x) {
-          const Stencil<D> st = make_stencil<D, K>(x, g.origin, inv_h, a);
-          mark(offset_bases_, st.base[0] - 1, st.base[0] + 3, st.base[1] - 1, st.base[1] + 3);
-        }
-    offset_bases_valid_ = true;
-  }
+  const bool usl = sc_.settings.integrator == Integrator::usl;
+  masks_.template mark_offsets<K>(sc_.grid, sc_.bodies, presence_, HalfWidth(half_width_), t_, dt_, usl);
 }
 
-// The stencil base nodes of the particles whose next P2G must scatter what the field contact
-// reads (volume gradients, binder-layer sums, mass-centre offsets): the contact acts only at nodes
-// where two or more fields have mass, and the sums there must be whole. A particle moves less than
-// a cell per step (the fused pass checks it and re-runs a full P2G otherwise), so its stencil base
-// moves by at most one node: a node can hold two fields next step only if two fields are present
-// within one node of it now (a candidate), and a particle needs the data if its next stencil
-// [b, b + 2] holds a candidate. The sums at every node the contact reads are unchanged to the bit;
-// deep inside a grain (most particles at fine cells) the particles scatter only mass, momentum and
-// force. 2-D, fused USL pass only.
 template <int D>
 void Solver<D>::mark_contact_bases() {
-  contact_bases_valid_ = false;
-  if constexpr (D == 2) {
-    auto& g = sc_.grid;
-    const int nf = sc_.deformable_fields;
-    if (sc_.settings.integrator != Integrator::usl || nf < 2 || nf > 64 || sc_.contact.fields < 2 ||
-        sc_.contact.all_weld())
-      return;
-    const long nx = g.n[0], ny = g.n[1], nn = g.nodes();
-    field_bits_.assign(static_cast<std::size_t>(nn), 0);
-    std::uint64_t* bits = field_bits_.data();
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < nn; ++i) {
-      std::uint64_t b = 0;
-      for (int f = 0; f < nf; ++f)
-        if (g.mass[g.at(f, i)] > 0.0) b |= std::uint64_t{1} << f;
-      bits[i] = b;
-    }
-    // candidates: two or more fields within one node (a 3 x 3 OR, then a count)
-    std::vector<std::uint8_t>& cand = candidate_;
-    cand.assign(static_cast<std::size_t>(nn), 0);
-#pragma omp parallel for schedule(static)
-    for (long y = 0; y < ny; ++y)
-      for (long x = 0; x < nx; ++x) {
-        std::uint64_t u = 0;
-        for (long yy = std::max(0L, y - 1); yy <= std::min(ny - 1, y + 1); ++yy)
-          for (long xx = std::max(0L, x - 1); xx <= std::min(nx - 1, x + 1); ++xx) u |= bits[xx + yy * nx];
-        cand[static_cast<std::size_t>(x + y * nx)] = (u & (u - 1)) != 0;  // more than one bit set
-      }
-    // bases whose 3 x 3 stencil holds a candidate
-    contact_bases_.assign(static_cast<std::size_t>(nn), 0);
-#pragma omp parallel for schedule(static)
-    for (long y = 0; y < ny; ++y)
-      for (long x = 0; x < nx; ++x) {
-        std::uint8_t m = 0;
-        for (long yy = y; yy <= std::min(ny - 1, y + 2); ++yy)
-          for (long xx = x; xx <= std::min(nx - 1, x + 2); ++xx) m |= cand[static_cast<std::size_t>(xx + yy * nx)];
-        contact_bases_[static_cast<std::size_t>(x + y * nx)] = m;
-      }
-    contact_bases_valid_ = true;
-  }
+  const bool usl = sc_.settings.integrator == Integrator::usl;
+  masks_.mark_contact(sc_.grid, sc_.deformable_fields, usl && sc_.contact.fields >= 2 && !sc_.contact.all_weld());
 }
 
 template <int D>
@@ -502,7 +346,7 @@ void Solver<D>::rigid_stage(bool record) {
     RigidContactResult<D> r;
     // The bodies' velocity over the step (t_n+1): also in MUSL's unrecorded remap pass, whose
     // momenta carry the end-of-step velocities (it used t_n: a punch lag of up to 1e-4 m/s in the ramp).
-    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, body_nodes_, r);
+    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, presence_.nodes(), r);
     if (record) {
       for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
         sc_.bodies[b].impulse += r.impulse[b];

@@ -9,8 +9,10 @@
 #include <limits>
 #include <vector>
 
+#include "bodies/body_presence.hpp"
 #include "contact/contact_tally.hpp"
-#include "solver/bins.hpp"
+#include "contact/scatter_masks.hpp"
+#include "grid/strip_bins.hpp"
 #include "solver/scene.hpp"
 #include "solver/stage_clock.hpp"
 #include "solver/transfer.hpp"
@@ -106,7 +108,6 @@ class Solver {
   template <Kernel K>
   void mark_offset_bases();
   void mark_contact_bases();
-  void list_body_nodes(long lo, long hi);
   template <Kernel K>
   void particle_pass_impl();
   void velocity_gradient();  // USF: L from the interpolated velocities
@@ -133,19 +134,10 @@ class Solver {
   bool grid_primed_ = false;                    // the last fused pass made this step's P2G
   std::vector<std::vector<long>> batch_begin_;  // [material][strip]: first batch position
   std::vector<long> chunk_begin_;               // [strip]: first fused-pass chunk (results order)
-  std::vector<std::vector<std::pair<long, double>>> static_presence_;
-  // Stencil base nodes of the particles whose next P2G must scatter mass-centre offsets (near a
-  // rigid body), when valid this step (mark_offset_bases); otherwise every particle scatters them.
-  std::vector<std::uint8_t> offset_bases_, static_offset_bases_;
-  bool offset_bases_valid_ = false;
-  // Stencil base nodes of the particles whose next P2G must scatter the field contact's data
-  // (mark_contact_bases), when valid this step; otherwise every particle scatters it.
-  std::vector<std::uint8_t> contact_bases_, candidate_;
-  std::vector<std::uint64_t> field_bits_;
-  bool contact_bases_valid_ = false;
-  // nodes where a rigid body is present, ascending (rigid_p2g): all bodies', and the static ones'
-  std::vector<long> body_nodes_, static_body_nodes_;
-  bool static_nodes_listed_ = false;
+  BodyPresence<D> presence_;                    // the rigid bodies on the grid (rigid_p2g)
+  // which particles' next P2G must scatter the contact stages' data (mark_offset_bases,
+  // mark_contact_bases)
+  ContactScatterMasks<D> masks_;
   ContactTally<D> contact_tally_;
   StageClock clock_;
   // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with

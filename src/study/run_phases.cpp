@@ -8,7 +8,7 @@
 #include "core/units.hpp"
 #include "io/deck.hpp"
 #include "materials/point_driver.hpp"
-#include "solver/scene.hpp"
+#include "bodies/die.hpp"
 
 namespace pbx {
 namespace {
@@ -59,12 +59,13 @@ RunPhases run_phases(const StudyRun& run) {
   const Json* rj_ramp = json_find(rj, "ramp_strain");
   const Json* rj_v = json_find(rj, "punch_velocity_m_s");
   const Json* rj_h = json_find(spec, "height_m");
-  const double H = rj_h && rj_h->is_number() ? json_number(*rj_h) : die.positive("height", dim::length);
-  const double v = rj_v && rj_v->is_number() ? json_number(*rj_v) : die.positive("punch_velocity", dim::velocity);
-  const double ramp =
+  Die fixture;
+  fixture.height = rj_h && rj_h->is_number() ? json_number(*rj_h) : die.positive("height", dim::length);
+  fixture.punch_velocity =
+      rj_v && rj_v->is_number() ? json_number(*rj_v) : die.positive("punch_velocity", dim::velocity);
+  fixture.ramp_strain =
       rj_ramp && rj_ramp->is_number() ? json_number(*rj_ramp) : die.number("ramp_strain", kDefaultRampStrain);
-  // The punch ramps its speed up linearly over 2 ramp H / v, so strain e >= ramp is reached at (e + ramp) H / v.
-  out.load_time_s = (0.5 * (lo + hi) + ramp) * H / v;
+  out.load_time_s = fixture.time_at_strain(0.5 * (lo + hi));
 
   const DeckTable materials = deck.root().table("materials");
   const Json& mats = member(rj, "materials", rj_file);

@@ -17,6 +17,7 @@
 #include <mpi.h>
 #endif
 
+#include "setup/build_scene.hpp"
 #include "analysis/run_analysis.hpp"
 #include "analysis/study_report.hpp"
 #include "core/error.hpp"
@@ -26,7 +27,7 @@
 #include "io/output_lock.hpp"
 #include "io/deck.hpp"
 #include "io/json.hpp"
-#include "solver/runner.hpp"
+#include "run/runner.hpp"
 #include "study/run_phases.hpp"
 #include "study/study_status.hpp"
 

@@ -14,7 +14,7 @@
 #include "io/json.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
-#include "solver/runner.hpp"
+#include "run/runner.hpp"
 
 namespace fs = std::filesystem;
 

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "../engine/scene_fixture.hpp"
+#include "setup/build_scene.hpp"
 #include "io/deck.hpp"
 #include "two_disks_deck.hpp"
 #include "contact/field_overlap.hpp"

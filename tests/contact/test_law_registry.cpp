@@ -35,7 +35,7 @@ struct PartialWeld {
 // Registered once per process (the registry refuses a second registration of a name).
 void register_toy() {
   static const bool done = [] {
-    register_contact_law<PartialWeld>("toy_partial_weld", [](const DeckTable& t) {
+    register_contact_law<PartialWeld>("toy_partial_weld", [](const ParamTable& t) {
       const double f = t.number("fraction");
       if (!(f >= 0.0 && f <= 1.0)) t.fail("fraction", "must lie in [0, 1]");
       return PartialWeld{f};
@@ -132,7 +132,7 @@ TEST(ContactLawRegistry, BadInputAndTakenNamesAreRefused) {
   EXPECT_NE(error_of("fractio = 0.5\n").find("contact.fraction"), std::string::npos) << error_of("fractio = 0.5\n");
   EXPECT_NE(error_of("fraction = 0.5\n", "toy_partial_weldd").find("toy_partial_weld"), std::string::npos)
       << "the unknown-law message lists the registered laws";
-  const auto noop = [](const DeckTable&) { return PartialWeld{}; };
+  const auto noop = [](const ParamTable&) { return PartialWeld{}; };
   EXPECT_THROW(register_contact_law<PartialWeld>("coulomb", noop), std::invalid_argument);
   EXPECT_THROW(register_contact_law<PartialWeld>("toy_partial_weld", noop), std::invalid_argument);
   EXPECT_THROW(register_contact_law<PartialWeld>("Bad Name", noop), std::invalid_argument);

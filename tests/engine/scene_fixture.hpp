@@ -5,7 +5,8 @@
 #include <string>
 
 #include "io/deck.hpp"
-#include "solver/runner.hpp"
+#include "setup/build_scene.hpp"
+#include "run/runner.hpp"
 
 namespace pbx::test {
 

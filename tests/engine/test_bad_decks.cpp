@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "block_deck.hpp"
+#include "setup/build_scene.hpp"
 #include "core/error.hpp"
 #include "scene_fixture.hpp"
 

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "../contact/two_disks_deck.hpp"
+#include "setup/build_scene.hpp"
 #include "io/deck_override.hpp"
 #include "scene_fixture.hpp"
 

@@ -21,7 +21,7 @@
 #include "core/error.hpp"
 #include "io/deck.hpp"
 #include "scene_fixture.hpp"
-#include "solver/scene.hpp"
+#include "setup/build_scene.hpp"
 
 namespace fs = std::filesystem;
 using namespace pbx;

@@ -1,4 +1,4 @@
-// The strip bookkeeping of the race-free scatter (solver/bins.hpp): the division-free home test
+// The strip bookkeeping of the race-free scatter (grid/strip_bins.hpp): the division-free home test
 // agrees with strip_of_cell, and each parity phase hands out every strip of its parity exactly
 // once, in an order whose consecutive strips are not neighbours of that parity.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <set>
 
-#include "solver/bins.hpp"
+#include "grid/strip_bins.hpp"
 
 namespace pbx {
 

@@ -2,7 +2,7 @@
 // share of the cores; an explicit count is kept, with a note when the scene is too small for it.
 #include <gtest/gtest.h>
 
-#include "solver/thread_count.hpp"
+#include "run/thread_count.hpp"
 
 using namespace pbx;
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
-#include "eos/mie_gruneisen.hpp"
+#include "materials/mie_gruneisen.hpp"
 #include "material_fixtures.hpp"
 #include "materials/point_driver.hpp"
 

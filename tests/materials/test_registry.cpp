@@ -41,7 +41,7 @@ class ToyBulk final : public Material<D> {
 
 // The factory: its keys, refused when unknown, as every built-in model does.
 template <int D>
-std::unique_ptr<Material<D>> make_toy_bulk(const DeckTable& t, const MaterialContext&) {
+std::unique_ptr<Material<D>> make_toy_bulk(const ParamTable& t, const MaterialContext&) {
   for (const auto& k : t.keys())
     if (k != "model" && k != "density" && k != "bulk_modulus") t.fail(k, "unknown key for model 'toy_bulk'");
   return std::make_unique<ToyBulk<D>>(t.positive("density", dim::density), t.positive("bulk_modulus", dim::pressure));

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "eos/tait.hpp"
+#include "materials/tait.hpp"
 #include "material_fixtures.hpp"
 #include "materials/point_driver.hpp"
 #include "materials/prony_deviator.hpp"

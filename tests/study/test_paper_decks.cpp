@@ -18,7 +18,7 @@
 #include "contact/contact_matrix.hpp"
 #include "io/deck.hpp"
 #include "materials/point_driver.hpp"
-#include "solver/scene.hpp"
+#include "setup/build_scene.hpp"
 #include "study/study.hpp"
 
 using namespace pbx;

@@ -16,10 +16,11 @@
 #include <toml++/toml.h>
 
 #include "core/error.hpp"
+#include "setup/build_scene.hpp"
 #include "io/json.hpp"
 #include "io/deck.hpp"
 #include "microstructure/packing.hpp"
-#include "solver/runner.hpp"
+#include "run/runner.hpp"
 #include "study/study.hpp"
 #include "study/study_status.hpp"
 

@@ -1,4 +1,4 @@
-#include "solver/runner.hpp"
+#include "run/runner.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -17,7 +17,7 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class MieGruneisenEos {
  public:
@@ -31,7 +31,7 @@ class MieGruneisenEos {
   };
   static constexpr const char* name = "mie_gruneisen";
   static std::vector<std::string> keys();
-  static MieGruneisenEos from_deck(const DeckTable& t, const SolidSetup& s);
+  static MieGruneisenEos from_params(const ParamTable& t, const SolidSetup& s);
   MieGruneisenEos(const Params& p, std::string material);
 
   int history_size() const { return 3; }

@@ -1,12 +1,12 @@
-#include "eos/tait.hpp"
+#include "materials/tait.hpp"
 
 #include <fmt/format.h>
 
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 
 namespace pbx {
 
-TaitEos TaitEos::from_deck(const DeckTable& t, const SolidSetup& s) {
+TaitEos TaitEos::from_params(const ParamTable& t, const SolidSetup& s) {
   const double C = t.number("tait_c");
   if (!(C > 0.0)) t.fail("tait_c", fmt::format("must be > 0 (got {})", C));
   const double K0 = t.positive("tait_k0", dim::pressure);

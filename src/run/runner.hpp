@@ -15,7 +15,7 @@
 #include "io/output_lock.hpp"
 #include "io/snapshot.hpp"
 #include "solver/solver.hpp"
-#include "solver/thread_count.hpp"
+#include "run/thread_count.hpp"
 
 namespace pbx {
 
@@ -41,7 +41,7 @@ struct Measurement {
 
 struct RunOptions {
   std::string out_dir;  // empty: write nothing (tests)
-  int threads = 0;      // 0: chosen from the scene size (solver/thread_count.hpp)
+  int threads = 0;      // 0: chosen from the scene size (run/thread_count.hpp)
   bool progress = true;
   Json deck;                         // the validated deck (for run.json)
   Json study;                        // {"group": ..., ...} when the run belongs to a study; null otherwise

@@ -9,13 +9,13 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class LinearBulkEos {
  public:
   static constexpr const char* name = "linear";
   static std::vector<std::string> keys() { return {"bulk_modulus"}; }
-  static LinearBulkEos from_deck(const DeckTable& t, const SolidSetup& s);
+  static LinearBulkEos from_params(const ParamTable& t, const SolidSetup& s);
   explicit LinearBulkEos(double K) : K_(K) {}
 
   int history_size() const { return 0; }

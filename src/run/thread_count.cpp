@@ -1,4 +1,4 @@
-#include "solver/thread_count.hpp"
+#include "run/thread_count.hpp"
 
 #include "core/error.hpp"
 

@@ -1,5 +1,8 @@
 #pragma once
-// Race-free, deterministic parallel scatter over vertical strips of `width` >= 3 cells. A
+// The grid's strips: its node columns split into vertical strips of `width` >= 3 cells, each the
+// home of the particles stored in one storage range (the owned ranges a domain decomposition over
+// processes would generalise, with the stencil's one node column on each side as the ghost layer).
+// They give a race-free, deterministic parallel scatter. A
 // particle's 3x3 stencil reaches one node column beyond its strip on each side, so strips of the
 // same parity never touch the same node: even strips scatter in parallel, then odd strips.
 //

@@ -12,13 +12,13 @@
 
 namespace pbx {
 
-class DeckTable;
+class ParamTable;
 
 class TaitEos {
  public:
   static constexpr const char* name = "tait";
   static std::vector<std::string> keys() { return {"tait_c", "tait_k0", "tait_b1"}; }
-  static TaitEos from_deck(const DeckTable& t, const SolidSetup& s);
+  static TaitEos from_params(const ParamTable& t, const SolidSetup& s);
   // C: Tait constant; K0: zero-pressure bulk modulus at the run temperature.
   TaitEos(double C, double K0) : C_(C), K0_(K0), B_(C * K0), invC_(1.0 / C) {}
 

@@ -1,4 +1,4 @@
-#include "solver/layer_setup.hpp"
+#include "setup/layer_setup.hpp"
 
 #include <algorithm>
 #include <cmath>

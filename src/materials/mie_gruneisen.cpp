@@ -1,9 +1,9 @@
-#include "eos/mie_gruneisen.hpp"
+#include "materials/mie_gruneisen.hpp"
 
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "io/deck.hpp"
+#include "core/param_table.hpp"
 
 namespace pbx {
 
@@ -12,7 +12,7 @@ std::vector<std::string> MieGruneisenEos::keys() {
           "gruneisen_gamma0", "gruneisen_a", "dissipation_to_energy"};
 }
 
-MieGruneisenEos MieGruneisenEos::from_deck(const DeckTable& t, const SolidSetup& s) {
+MieGruneisenEos MieGruneisenEos::from_params(const ParamTable& t, const SolidSetup& s) {
   Params p;
   p.rho0 = s.density;
   p.c = t.positive("sound_speed", dim::velocity);
