@@ -63,13 +63,9 @@ template <int D>
 void run_deck(Deck& deck, const RunArgs& args, const std::string& deck_name, const CheckpointData& ck) {
   Scene<D> scene = build_scene<D>(deck);
   deck.check_unused();
-  RunOptions opt;
-  opt.out_dir = args.out;
+  RunOptions opt = run_options_for(deck, deck_name, args.out);
   opt.threads = args.threads;
   opt.progress = !args.quiet;
-  opt.deck = json_parse(deck.to_json(), "the deck as JSON");
-  opt.deck_text = deck.text();
-  opt.deck_name = deck_name;
   opt.checkpoint_every = args.checkpoint_every;
   opt.checkpoint_wall_s = 60.0 * args.checkpoint_minutes;
   Runner<D> runner(scene, opt, !args.restart.empty());

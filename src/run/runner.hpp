@@ -11,6 +11,7 @@
 #include "contact/field_overlap.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
+#include "io/deck.hpp"
 #include "io/json.hpp"
 #include "io/output_lock.hpp"
 #include "io/snapshot.hpp"
@@ -58,6 +59,11 @@ struct RunOptions {
   std::string progress_label;
   int runs_after = 0;
 };
+
+// The options a run takes from its deck: the validated deck as JSON (run.json), its text and name
+// (checkpoints store them to rebuild the scene on restart), and the output folder. The caller adds
+// threads, progress and checkpointing.
+RunOptions run_options_for(const Deck& deck, const std::string& deck_name, const std::string& out_dir);
 
 // Seconds until the study ends: the current run's remaining time plus `runs_after` runs of the
 // length this one is projected to have, from `wall_s` spent since the fraction `frac_at_start`

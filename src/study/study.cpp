@@ -396,58 +396,140 @@ int check_study(const StudySpec& s) {
   return static_cast<int>(s.runs.size());
 }
 
-int run_study(const StudySpec& s, const StudyOptions& opt) {
-  Mpi mpi;
-  const fs::path out = fs::absolute(opt.out_dir);
-  // --only names runs of this study (checked before anything is written)
-  std::vector<bool> selected(s.runs.size(), opt.only.empty()), pending(s.runs.size(), false);
-  for (const auto& id : opt.only) {
-    std::size_t i = 0;
-    while (i < s.runs.size() && s.runs[i].id != id) ++i;
-    if (i == s.runs.size()) {
-      std::string ids;
-      for (const auto& r : s.runs) ids += (ids.empty() ? "" : ", ") + r.id;
-      throw InputError(fmt::format("study {}: --only names run '{}', which the study does not have (its runs: {})",
-                                   s.name, id, ids));
-    }
-    selected[i] = true;
+namespace {
+
+// What became of one run of the study on this rank: failed (the run, or its analysis), and whether
+// the study must stop after it (a signal: the run saved a checkpoint, or finished as it came).
+struct RunResult {
+  bool failed = false, stop = false;
+};
+
+// One run of the study: its deck written and built, the run (continued from its checkpoint when it
+// has a usable one, else from the start), its analysis. Errors are reported and returned, never
+// thrown: the other ranks wait for this one in the collectives after the runs.
+RunResult execute_run(const StudySpec& s, const StudyOptions& opt, const Mpi& mpi, const fs::path& out,
+                      const StudyRunSpec& r, int done, int mine, double elapsed) {
+  RunResult res;
+  const fs::path dir = out / "runs" / r.id;
+  // Runs of the whole study finished so far, by every rank (read from the shared folder): each
+  // rank's own counter alone would not say how far the study is.
+  std::string study_done;
+  try {
+    const auto all = study_status(out.string());
+    const auto fin = std::count_if(all.begin(), all.end(), [](const RunStatus& x) { return x.state == "finished"; });
+    study_done = fmt::format("{}/{} runs of the study finished", fin, all.size());
+  } catch (const std::exception& e) {
+    study_done = fmt::format("study status unreadable: {}", e.what());
   }
-  // One study process per folder: a second one would rewrite study.json, move checkpoints aside and
-  // run the same runs. Rank 0 holds the lock for the whole job; every rank stops if it cannot.
-  // Everything rank 0 alone does here is caught: a throw on one rank would leave the others waiting
-  // in the collective below for ever.
-  OutputLock lock;
-  int setup_failed = 0;
-  if (mpi.rank == 0) {
+  std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %s, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank,
+               study_done.c_str(), elapsed);
+  try {
+    fs::create_directories(dir);
+    const std::string text = run_deck_text(s, r);
+    write_text_atomically(dir / "deck.toml", text);
+    Deck deck = run_deck(s, text, dir / "deck.toml");
+    Scene<2> scene = build_study_scene(deck);
+    deck.check_unused();
+    const fs::path ckpt = dir / "checkpoint.h5";
+    const bool restart = fs::exists(ckpt);  // its deck was checked above
+    RunOptions ro = run_options_for(deck, (dir / "deck.toml").string(), dir.string());
+    ro.threads = opt.threads;
+    ro.progress = opt.progress;
+    ro.checkpoint_every = opt.checkpoint_every;
+    ro.progress_label =
+        mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
+                     : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
+    ro.runs_after = mine - done;
+    double mass = 0;
+    for (double m : scene.particles.mass) mass += m;
+    const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
+    ro.study = {{"study", s.name},
+                {"id", r.id},
+                {"group", r.group},
+                {"value", r.value_label},
+                {"temperature_K", scene.control.temperature},
+                {"density_g_cm3", rho / 1000.0},
+                {"seed", r.seed}};
+    // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
+    // it, history columns of another code version) is set aside and the run starts over.
+    bool resumed = false;
+    if (restart) {
+      Runner<2> runner(scene, ro, true);
+      CheckpointData ck;
+      try {
+        ck = read_checkpoint(ckpt.string());
+        runner.resume(ck);
+        resumed = true;
+      } catch (const InputError& e) {
+        const fs::path aside = dir / "checkpoint.unusable.h5";
+        fs::rename(ckpt, aside);
+        std::fprintf(stderr,
+                     "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
+                     r.id.c_str(), e.what(), aside.c_str());
+      }
+      if (resumed) {
+        std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s, segments: %s)\n",
+                     r.id.c_str(), ck.scalars.at("steps"), ck.scalars.at("t"),
+                     ck.code_versions.empty() ? "code version not recorded" : ck.code_versions.c_str());
+        runner.run();
+      }
+    }
+    if (!resumed) {
+      if (restart) {  // the failed resume may have changed the scene: build it again
+        Deck again = run_deck(s, text, dir / "deck.toml");
+        scene = build_study_scene(again);
+      }
+      Runner<2> runner(scene, ro);
+      runner.run();
+    }
+    fs::remove(ckpt);  // finished: the study never restarts it
     try {
-      lock = OutputLock(out, "study");
-      fs::create_directories(out / "runs");
-      write_study_files(s, out);
+      analyze_run_to_file(dir.string(), s.analysis);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "pbxmpm study: %s\n", e.what());
-      setup_failed = 1;
+      // the run itself is whole (run.json "finished"): only its analysis is missing, and the same
+      // command re-analyses it without running it again
+      res.failed = true;
+      std::fprintf(stderr,
+                   "pbxmpm study: run %s finished, but its analysis failed: %s (the run is kept; after "
+                   "changing the study's [analysis] the same command re-analyses it without running it)\n",
+                   r.id.c_str(), e.what());
     }
+    if (stop_signal_received()) {
+      // the signal came after the run's last checkpoint row, so the run finished: the study
+      // stops before the next one (it used to start it, and the signal was forgotten)
+      std::fprintf(stderr,
+                   "pbxmpm study: a stop signal arrived as run %s finished; the study stops here: run the "
+                   "same `pbxmpm study` command to continue it\n",
+                   r.id.c_str());
+      res.stop = true;
+    }
+  } catch (const Interrupted& e) {
+    // the run saved a checkpoint: the study stops here, and the same command continues it
+    res.failed = res.stop = true;
+    std::fprintf(stderr,
+                 "pbxmpm study: run %s %s; the study stops here: run the same `pbxmpm study` command to "
+                 "continue it\n",
+                 r.id.c_str(), e.what());
+  } catch (const InstabilityError& e) {
+    // the run would fail the same way from its checkpoint: a rerun (after a fix) starts it over
+    res.failed = true;
+    std::error_code ec;  // no throw here: the other ranks wait for this one in the sum below
+    fs::remove(dir / "checkpoint.h5", ec);
+    std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
+  } catch (const std::exception& e) {
+    res.failed = true;
+    std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
   }
-  if (mpi.sum(setup_failed) > 0) return kStudyNotStarted;
-  // Which runs this call does: the selected (--only) runs that have not finished. Rank 0 decides
-  // and tells the others, so every rank deals the same list even where a shared file system shows
-  // the ranks different states of the run folders.
-  std::vector<char> is_finished(s.runs.size(), 0);
-  if (mpi.rank == 0)
-    for (std::size_t i = 0; i < s.runs.size(); ++i) is_finished[i] = finished(out / "runs" / s.runs[i].id);
-  mpi.broadcast(is_finished);
-  for (std::size_t i = 0; i < s.runs.size(); ++i) pending[i] = selected[i] && !is_finished[i];
-  const std::vector<std::size_t> todo = runs_of_rank(pending, mpi.size, mpi.rank);
-  // Every finished run, selected or not (the report will use them all), is checked against the
-  // deck the study gives now and re-analysed (cheap) by rank 0, so that a changed [analysis] table
-  // applies to it.
-  std::vector<std::size_t> reused;
-  for (std::size_t i = 0; i < s.runs.size(); ++i)
-    if (is_finished[i] && mpi.rank == 0) reused.push_back(i);
-  // Before the first run starts: a finished run is reused only if the study still gives it the
-  // same deck (a changed base deck or override must not be mixed silently with old results), and
-  // every other run's deck is built once (specimen included, about a second at 5 um), so that a
-  // mistyped override in the last run fails now, not hours into the study.
+  return res;
+}
+
+// Before the first run starts, on this rank: a finished run is reused only if the study still gives
+// it the same deck (a changed base deck or override must not be mixed silently with old results),
+// and every run to do has its deck built once (specimen included, about a second at 5 um), so that a
+// mistyped override in the last run fails now, not hours into the study. Returns how many runs are
+// invalid; reports each, throws nothing (the other ranks wait in the sum after it).
+int check_before_start(const StudySpec& s, const fs::path& out, const std::vector<std::size_t>& reused,
+                       const std::vector<std::size_t>& todo) {
   int invalid = 0;
   for (const std::size_t i : reused) {
     const auto& r = s.runs[i];
@@ -500,7 +582,60 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
       std::fprintf(stderr, "pbxmpm study: run %s: %s\n", r.id.c_str(), e.what());
     }
   }
-  invalid = mpi.sum(invalid);
+  return invalid;
+}
+}  // namespace
+
+int run_study(const StudySpec& s, const StudyOptions& opt) {
+  Mpi mpi;
+  const fs::path out = fs::absolute(opt.out_dir);
+  // --only names runs of this study (checked before anything is written)
+  std::vector<bool> selected(s.runs.size(), opt.only.empty()), pending(s.runs.size(), false);
+  for (const auto& id : opt.only) {
+    std::size_t i = 0;
+    while (i < s.runs.size() && s.runs[i].id != id) ++i;
+    if (i == s.runs.size()) {
+      std::string ids;
+      for (const auto& r : s.runs) ids += (ids.empty() ? "" : ", ") + r.id;
+      throw InputError(fmt::format("study {}: --only names run '{}', which the study does not have (its runs: {})",
+                                   s.name, id, ids));
+    }
+    selected[i] = true;
+  }
+  // One study process per folder: a second one would rewrite study.json, move checkpoints aside and
+  // run the same runs. Rank 0 holds the lock for the whole job; every rank stops if it cannot.
+  // Everything rank 0 alone does here is caught: a throw on one rank would leave the others waiting
+  // in the collective below for ever.
+  OutputLock lock;
+  int setup_failed = 0;
+  if (mpi.rank == 0) {
+    try {
+      lock = OutputLock(out, "study");
+      fs::create_directories(out / "runs");
+      write_study_files(s, out);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pbxmpm study: %s\n", e.what());
+      setup_failed = 1;
+    }
+  }
+  if (mpi.sum(setup_failed) > 0) return kStudyNotStarted;
+  // Which runs this call does: the selected (--only) runs that have not finished. Rank 0 decides
+  // and tells the others, so every rank deals the same list even where a shared file system shows
+  // the ranks different states of the run folders.
+  std::vector<char> is_finished(s.runs.size(), 0);
+  if (mpi.rank == 0)
+    for (std::size_t i = 0; i < s.runs.size(); ++i) is_finished[i] = finished(out / "runs" / s.runs[i].id);
+  mpi.broadcast(is_finished);
+  for (std::size_t i = 0; i < s.runs.size(); ++i) pending[i] = selected[i] && !is_finished[i];
+  const std::vector<std::size_t> todo = runs_of_rank(pending, mpi.size, mpi.rank);
+  // Every finished run, selected or not (the report will use them all), is checked against the
+  // deck the study gives now and re-analysed (cheap) by rank 0, so that a changed [analysis] table
+  // applies to it.
+  std::vector<std::size_t> reused;
+  for (std::size_t i = 0; i < s.runs.size(); ++i)
+    if (is_finished[i] && mpi.rank == 0) reused.push_back(i);
+  // every deck checked before the first run starts
+  const int invalid = mpi.sum(check_before_start(s, out, reused, todo));
   if (invalid > 0) {
     if (mpi.rank == 0)
       std::fprintf(stderr, "pbxmpm study: %d %s with an invalid or changed deck; no run started\n", invalid,
@@ -522,125 +657,13 @@ int run_study(const StudySpec& s, const StudyOptions& opt) {
   }
   const int mine = static_cast<int>(todo.size());
   for (const std::size_t i : todo) {
-    const auto& r = s.runs[i];
-    const fs::path dir = out / "runs" / r.id;
     ++done;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // Runs of the whole study finished so far, by every rank (read from the shared folder): each
-    // rank's own counter alone would not say how far the study is.
-    std::string study_done;
-    try {
-      const auto all = study_status(out.string());
-      const auto fin = std::count_if(all.begin(), all.end(), [](const RunStatus& x) { return x.state == "finished"; });
-      study_done = fmt::format("{}/{} runs of the study finished", fin, all.size());
-    } catch (const std::exception& e) {
-      study_done = fmt::format("study status unreadable: {}", e.what());
-    }
-    std::fprintf(stderr, "pbxmpm study: [%d/%d] %s (rank %d, %s, %.0f s elapsed)\n", done, mine, r.id.c_str(), mpi.rank,
-                 study_done.c_str(), elapsed);
-    try {
-      fs::create_directories(dir);
-      const std::string text = run_deck_text(s, r);
-      write_text_atomically(dir / "deck.toml", text);
-      Deck deck = run_deck(s, text, dir / "deck.toml");
-      Scene<2> scene = build_study_scene(deck);
-      deck.check_unused();
-      const fs::path ckpt = dir / "checkpoint.h5";
-      const bool restart = fs::exists(ckpt);  // its deck was checked above
-      RunOptions ro;
-      ro.out_dir = dir.string();
-      ro.threads = opt.threads;
-      ro.progress = opt.progress;
-      ro.deck = json_parse(deck.to_json(), "the deck as JSON");
-      ro.deck_text = text;
-      ro.deck_name = (dir / "deck.toml").string();
-      ro.checkpoint_every = opt.checkpoint_every;
-      ro.progress_label =
-          mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
-                       : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
-      ro.runs_after = mine - done;
-      double mass = 0;
-      for (double m : scene.particles.mass) mass += m;
-      const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
-      ro.study = {{"study", s.name},
-                  {"id", r.id},
-                  {"group", r.group},
-                  {"value", r.value_label},
-                  {"temperature_K", scene.control.temperature},
-                  {"density_g_cm3", rho / 1000.0},
-                  {"seed", r.seed}};
-      // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
-      // it, history columns of another code version) is set aside and the run starts over.
-      bool resumed = false;
-      if (restart) {
-        Runner<2> runner(scene, ro, true);
-        CheckpointData ck;
-        try {
-          ck = read_checkpoint(ckpt.string());
-          runner.resume(ck);
-          resumed = true;
-        } catch (const InputError& e) {
-          const fs::path aside = dir / "checkpoint.unusable.h5";
-          fs::rename(ckpt, aside);
-          std::fprintf(stderr,
-                       "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
-                       r.id.c_str(), e.what(), aside.c_str());
-        }
-        if (resumed) {
-          std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s, segments: %s)\n",
-                       r.id.c_str(), ck.scalars.at("steps"), ck.scalars.at("t"),
-                       ck.code_versions.empty() ? "code version not recorded" : ck.code_versions.c_str());
-          runner.run();
-        }
-      }
-      if (!resumed) {
-        if (restart) {  // the failed resume may have changed the scene: build it again
-          Deck again = run_deck(s, text, dir / "deck.toml");
-          scene = build_study_scene(again);
-        }
-        Runner<2> runner(scene, ro);
-        runner.run();
-      }
-      fs::remove(ckpt);  // finished: the study never restarts it
-      try {
-        analyze_run_to_file(dir.string(), s.analysis);
-      } catch (const std::exception& e) {
-        // the run itself is whole (run.json "finished"): only its analysis is missing, and the same
-        // command re-analyses it without running it again
-        ++failed;
-        std::fprintf(stderr,
-                     "pbxmpm study: run %s finished, but its analysis failed: %s (the run is kept; after "
-                     "changing the study's [analysis] the same command re-analyses it without running it)\n",
-                     r.id.c_str(), e.what());
-      }
-      if (stop_signal_received()) {
-        // the signal came after the run's last checkpoint row, so the run finished: the study
-        // stops before the next one (it used to start it, and the signal was forgotten)
-        std::fprintf(stderr,
-                     "pbxmpm study: a stop signal arrived as run %s finished; the study stops here: run the "
-                     "same `pbxmpm study` command to continue it\n",
-                     r.id.c_str());
-        interrupted = true;
-        break;
-      }
-    } catch (const Interrupted& e) {
-      // the run saved a checkpoint: the study stops here, and the same command continues it
-      ++failed;
-      std::fprintf(stderr,
-                   "pbxmpm study: run %s %s; the study stops here: run the same `pbxmpm study` command to "
-                   "continue it\n",
-                   r.id.c_str(), e.what());
+    const RunResult res = execute_run(s, opt, mpi, out, s.runs[i], done, mine,
+                                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    failed += res.failed;
+    if (res.stop) {
       interrupted = true;
       break;
-    } catch (const InstabilityError& e) {
-      // the run would fail the same way from its checkpoint: a rerun (after a fix) starts it over
-      ++failed;
-      std::error_code ec;  // no throw here: the other ranks wait for this one in the sum below
-      fs::remove(dir / "checkpoint.h5", ec);
-      std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
-    } catch (const std::exception& e) {
-      ++failed;
-      std::fprintf(stderr, "pbxmpm study: run %s failed: %s\n", r.id.c_str(), e.what());
     }
   }
   failed = mpi.sum(failed);

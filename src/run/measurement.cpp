@@ -1,0 +1,170 @@
+// The run driver's measurements: one history row (forces from the exact contact impulses over the
+// interval, energies, stresses, momentum), its columns, and the check that names a non-finite particle.
+#include "run/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "io/atomic_write.hpp"
+#include "io/json.hpp"
+
+namespace pbx {
+
+template <int D>
+Measurement Runner<D>::measure() {
+  const auto& P = sc_.particles;
+  Measurement m;
+  const double t = solver_.time();
+  m.t = t;
+  m.dt = solver_.dt();
+  const double span = t - t_last_row_;
+  m.body_force.resize(sc_.bodies.size());
+  for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
+    const Vec<D> f = span > 0 ? Vec<D>(sc_.bodies[b].impulse / span) : Vec<D>::Zero();
+    m.body_force[b].assign(f.data(), f.data() + D);
+  }
+  struct Sums {
+    double vol = 0, mass = 0, ke = 0;
+    Sym3 sv;
+    Vec<D> p = Vec<D>::Zero();
+    Sums& operator+=(const Sums& o) {
+      vol += o.vol;
+      mass += o.mass;
+      ke += o.ke;
+      sv += o.sv;
+      p += o.p;
+      return *this;
+    }
+  };
+  const double fs = sc_.settings.mass_scaling;
+  Sums s = ordered_reduce(static_cast<long>(P.size()), Sums{}, [&](long b, long e) {
+    Sums r;
+    for (long p = b; p < e; ++p) {
+      r.vol += P.volume[p];
+      r.mass += P.mass[p];
+      r.ke += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
+      r.sv += P.volume[p] * P.stress[p];
+      r.p += fs * P.mass[p] * P.v[p];
+    }
+    return r;
+  });
+  m.mass = s.mass;
+  m.momentum.assign(s.p.data(), s.p.data() + D);
+  const Vec<D> vcm = s.p / (fs * s.mass);
+  m.com_velocity.assign(vcm.data(), vcm.data() + D);
+  double box = s.vol;
+  if (sc_.die) {
+    const Die& die = *sc_.die;
+    const auto& punch = sc_.bodies[die.punch];
+    const double d = -punch.displacement_at(t)[1];
+    m.strain = d / die.height;
+    m.punch_velocity = -punch.velocity_at(t)[1];
+    m.punch_force = -m.body_force[die.punch][1];
+    m.punch_stress = m.punch_force / die.width;
+    m.wall_left = m.body_force[die.left][0];
+    m.wall_right = -m.body_force[die.right][0];
+    m.wall_bottom = m.body_force[die.bottom][1];
+    m.wall_stress = 0.5 * (m.wall_left + m.wall_right) / (die.height - d);
+    box = die.width * (die.height - d);
+  }
+  m.mean_stress = (1.0 / box) * s.sv;
+  m.kinetic = s.ke;
+  m.internal = solver_.internal_energy();
+  m.dissipated = solver_.dissipated_energy();
+  for (auto& b : sc_.bodies) punch_work_ += b.work;
+  m.punch_work = punch_work_;
+  m.ke_ie = m.internal > 0 ? m.kinetic / m.internal : 0.0;
+  for (auto& b : sc_.bodies) {
+    b.impulse.setZero();
+    b.work = 0;
+  }
+  auto& tally = solver_.contact_tally();
+  for (auto& mp : contact_pairs_) {
+    const PairImpulse<D> pi = material_pair_impulse<D>(tally, sc_.contact, mp);
+    const double inv = span > 0 ? 1.0 / span : 0.0;
+    std::vector<double> f = {pi.normal * inv, pi.shear * inv};
+    if (mp.first != mp.second)
+      for (int d = 0; d < D; ++d) f.push_back(pi.on_first[d] * inv);
+    m.pair_force.push_back(std::move(f));
+  }
+  tally.clear();
+  if constexpr (D == 2) {
+    if (overlap_) m.field_overlap.push_back(overlap_->area(P));
+  }
+  if (sc_.contact.has_layers()) m.layer_energy.push_back(solver_.layer_energy());
+  t_last_row_ = t;
+  return m;
+}
+
+// "; particle p (material 'm') has a non-finite velocity" for the first particle whose state is
+// not finite, or "" if every particle's is: names the culprit of a NaN found in the sums.
+template <int D>
+std::string Runner<D>::first_non_finite_particle() const {
+  const auto& P = sc_.particles;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const Sym3& st = P.stress[p];
+    const char* what = !std::isfinite(P.mass[p])                                       ? "mass"
+                       : !std::isfinite(P.volume[p])                                   ? "volume"
+                       : !P.x[p].allFinite()                                           ? "position"
+                       : !P.v[p].allFinite()                                           ? "velocity"
+                       : !std::isfinite(st.xx + st.yy + st.zz + st.xy + st.yz + st.zx) ? "stress"
+                                                                                       : nullptr;
+    if (what)
+      return fmt::format("; particle {} (material '{}') has a non-finite {}", p, sc_.material_names[P.material[p]],
+                         what);
+  }
+  return "";
+}
+
+template <int D>
+std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
+  std::vector<double> v = {0,
+                           m.t,
+                           m.dt,
+                           m.strain,
+                           m.punch_velocity,
+                           m.punch_force,
+                           m.punch_stress,
+                           m.wall_left,
+                           m.wall_right,
+                           m.wall_bottom,
+                           m.wall_stress,
+                           m.mean_stress.xx,
+                           m.mean_stress.yy,
+                           m.mean_stress.zz,
+                           m.mean_stress.xy,
+                           m.kinetic,
+                           m.internal,
+                           m.dissipated,
+                           m.punch_work,
+                           m.ke_ie,
+                           m.mass};
+  for (double x : m.momentum) v.push_back(x);
+  for (double x : m.com_velocity) v.push_back(x);
+  for (auto& f : m.body_force)
+    for (double x : f) v.push_back(x);
+  for (auto& f : m.pair_force)
+    for (double x : f) v.push_back(x);
+  for (double x : m.field_overlap) v.push_back(x);
+  for (double x : m.layer_energy) v.push_back(x);
+  return v;
+}
+
+template Measurement Runner<2>::measure();
+template std::string Runner<2>::first_non_finite_particle() const;
+template std::vector<double> Runner<2>::row_values(const Measurement&, int);
+template Measurement Runner<3>::measure();
+template std::string Runner<3>::first_non_finite_particle() const;
+template std::vector<double> Runner<3>::row_values(const Measurement&, int);
+
+}  // namespace pbx
