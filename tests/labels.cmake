@@ -15,7 +15,7 @@ set(PBXMPM_LABELLED_TESTS
   contact InclinedPlane.UsfAndMuslSlideAtCoulombAccelerationOrStick slow
   contact InclinedPlane.NearTheFrictionLimitOnlyTheSuddenLoadsVibrationMakesABlockCreep slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
-  contact BinderLayer.DensestQuickRunStaysQuasiStaticToTheEnd slow
+  contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow
   app OwnStudy.BinderTwiceAsStiffIsAnsweredByTheConditionsTable slow
