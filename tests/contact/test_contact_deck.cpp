@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "../deck_parts.hpp"
 #include "../engine/scene_fixture.hpp"
 
 using namespace pbx;
@@ -31,24 +32,8 @@ model = "linear_elastic"
 density = "2.0 g/cm3"
 youngs_modulus = "1 GPa"
 poisson_ratio = 0.4
-[[geometry]]
-shape = "disk"
-center = ["0.08 mm", "0.1 mm"]
-radius = "0.04 mm"
-material = "tatb"
-field = "tatb_0"
-[[geometry]]
-shape = "disk"
-center = ["0.18 mm", "0.1 mm"]
-radius = "0.04 mm"
-material = "tatb"
-field = "tatb_1"
-[[geometry]]
-shape = "disk"
-center = ["0.3 mm", "0.1 mm"]
-radius = "0.04 mm"
-material = "f2314"
-)" + contact;
+)" + test::disk_mm(0.08, 0.1, 0.04, "tatb", "tatb_0") +
+         test::disk_mm(0.18, 0.1, 0.04, "tatb", "tatb_1") + test::disk_mm(0.3, 0.1, 0.04, "f2314") + contact;
 }
 
 std::string error_of(const std::string& contact) {

@@ -12,12 +12,13 @@
 
 #include <gtest/gtest.h>
 
+#include "../deck_parts.hpp"
 #include "../engine/scene_fixture.hpp"
 
 using namespace pbx;
 
 namespace {
-const char* kDeck = R"(
+const std::string kDeck = R"(
 [run]
 end_strain = 0.01
 history_points = 41
@@ -42,26 +43,10 @@ model = "linear_elastic"
 density = "2.02 g/cm3"
 youngs_modulus = "1 GPa"
 poisson_ratio = 0.4
-[[geometry]]
-shape = "disk"
-center = ["0.055 mm", "0.12 mm"]
-radius = "0.045 mm"
-material = "tatb"
-field = "tatb_0"
-[[geometry]]
-shape = "disk"
-center = ["0.145 mm", "0.12 mm"]
-radius = "0.045 mm"
-material = "tatb"
-field = "tatb_1"
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.2 mm", "0.24 mm"]
-material = "binder"
 [contact]
 default = "coulomb"
 friction = 0.3
-)";
+)" + test::two_grains_in_binder(0.045, "tatb", "binder");
 
 // The deck with the shape function the die accepts besides the default (bspline2, clamped at the
 // die's walls): every check below holds for both.

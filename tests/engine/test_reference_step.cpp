@@ -22,6 +22,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../deck_parts.hpp"
 #include "scene_fixture.hpp"
 #include "solver/kinematics.hpp"
 #include "solver/material_batch.hpp"
@@ -64,20 +65,9 @@ prony_shear_moduli = ["50 MPa", "20 MPa"]
 prony_shear_times = ["1e-7 s", "1e-6 s"]
 tait_c = 0.08936
 tait_k0 = "0.27 GPa"
-[[geometry]]
-shape = "disk"
-center = ["0.2 mm", "0.2 mm"]
-radius = "0.06 mm"
-material = "tatb"
-field = "specimen"
-[[geometry]]
-shape = "disk"
-center = ["0.2 mm", "0.2 mm"]
-radius = "0.1 mm"
-material = "binder"
-field = "specimen"
 )",
-                     kernel, integrator);
+                     kernel, integrator) +
+         test::disk_mm(0.2, 0.2, 0.06, "tatb", "specimen") + test::disk_mm(0.2, 0.2, 0.1, "binder", "specimen");
 }
 
 // v = w x r + e r about the centre, identical in both scenes

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "../deck_parts.hpp"
 #include "../materials/material_fixtures.hpp"
 #include "io/checkpoint.hpp"
 #include "scene_fixture.hpp"
@@ -63,23 +64,8 @@ ramp_strain = 0.001
 wall_friction = 0.3
 )" + tatb +
          "[materials.f2314]" + test::f2314_body + R"(
-[[geometry]]
-shape = "disk"
-center = ["0.055 mm", "0.12 mm"]
-radius = "0.047 mm"
-material = "tatb"
-field = "tatb_0"
-[[geometry]]
-shape = "disk"
-center = ["0.145 mm", "0.12 mm"]
-radius = "0.047 mm"
-material = "tatb"
-field = "tatb_1"
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.2 mm", "0.24 mm"]
-material = "f2314"
-)" + contact;
+)" + test::two_grains_in_binder(0.047, "tatb", "f2314") +
+         contact;
 }
 
 std::string slurp(const fs::path& p) {
