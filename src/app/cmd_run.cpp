@@ -118,7 +118,8 @@ void register_run(CLI::App& app) {
       ->check(CLI::ExistingFile);
   run->add_option("--threads,-t", args->threads,
                   "OpenMP threads (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(CLI::Range(1, 1024))
+      ->default_str("auto");
   run->add_option("--set", args->set,
                   "override a deck key before the run, KEY=VALUE in TOML (e.g. --set 'grid.cell_size=\"10 um\"'); "
                   "repeatable; checked like the deck, and saved in run.json and the checkpoint");

@@ -30,7 +30,8 @@ void register_study(CLI::App& app) {
   st->add_option(
         "--threads,-t", a->threads,
         "OpenMP threads per run (default: OMP_NUM_THREADS, else one per 50,000 particles up to the cores of this rank)")
-      ->check(CLI::Range(1, 1024));
+      ->check(CLI::Range(1, 1024))
+      ->default_str("auto");
   st->add_option("--only", a->only,
                  "run only these run ids (comma-separated, as in STUDY/study.json); the report waits until every run "
                  "has finished")

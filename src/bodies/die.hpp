@@ -1,8 +1,8 @@
 #pragma once
 // The die of the paper (Fig. 1a): the specimen in [0, width] x [0, height] between three fixed
 // walls and a punch moving down at punch_velocity; walls and punch are rigid bodies (indices into
-// Scene::bodies). The die owns the punch timing, so the scene, the run's measurements and the
-// study's phase moduli (study/run_phases.cpp) read one formula.
+// Scene::bodies). The die owns the punch timing, so the scene (end time, the punch's ramp) and the
+// study's phase moduli (study/run_phases.cpp, the loading time) read one formula.
 
 namespace pbx {
 

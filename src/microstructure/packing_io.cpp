@@ -74,7 +74,7 @@ RgbImage picture(const Packing& p) {
   const double bar_um = scale_bar_um(p);
   const int bar_px = static_cast<int>(std::lround(bar_um * 1e-6 / px));
   const std::string bar_label = fmt::format("{:g} \u00b5m", bar_um);
-  const char* labels[] = {"TATB grain (yellow tints)", "binder coat (dark green)", "pore (white)"};
+  const char* labels[] = {"TATB grain (tinted by colour)", "binder coat (dark green)", "pore (white)"};
   struct Item {
     int x, line, width;
   };
@@ -149,7 +149,7 @@ void write_packing(const Packing& p, const std::string& dir) {
     js["periodic"] = p.periodic;
     js["box_m"] = json_numbers({p.box.x(), p.box.y()});
     js["picture"] = fmt::format(
-        "packing.png: TATB tinted by contact colour (yellow tints), binder dark green, voids white; "
+        "packing.png: TATB tinted by contact colour (light tints), binder dark green, voids white; "
         "the black bar below the box is {:g} um long (its length written beside it), then a legend",
         scale_bar_um(p));
     js["scale_bar_um"] = scale_bar_um(p);

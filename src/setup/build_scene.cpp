@@ -321,9 +321,9 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
         if (notes == SceneNotes::print)
           fmt::print(
               stderr,
-              "pbxmpm: note: the packer shrank {} grain(s), by up to {:.2g} % of the diameter, to remove the last "
+              "pbxmpm: note: the packer shrank {} grain{}, by up to {:.2g} % of the diameter, to remove the last "
               "overlaps (packing.json: grains_shrunk, max_relative_shrink)\n",
-              packing.grains_shrunk, 100 * packing.max_shrink);
+              packing.grains_shrunk, packing.grains_shrunk == 1 ? "" : "s", 100 * packing.max_shrink);
       const double specimen_particles = sc.die->width * sc.die->height / std::pow(h / ppc, 2);
       check_fits(
           gt, "cell_size", specimen_particles * kParticleBytes,
@@ -523,9 +523,10 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
         if (notes == SceneNotes::print)
           fmt::print(
               stderr,
-              "pbxmpm: warning: {}: rigid body '{}' starts over {} deformable particle(s) (the first: particle {} "
+              "pbxmpm: warning: {}: rigid body '{}' starts over {} deformable particle{} (the first: particle {} "
               "of material '{}'); a unilateral body pushes them out or carries them from the first step\n",
-              r.where("min"), b.name, covered, first, sc.material_names[sc.particles.material[first]]);
+              r.where("min"), b.name, covered, covered == 1 ? "" : "s", first,
+              sc.material_names[sc.particles.material[first]]);
     }
     add_body(std::move(b), s.lo, s.hi, &s);
   }

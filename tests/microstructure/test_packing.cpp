@@ -233,7 +233,7 @@ TEST(Packing, PictureHasALabelledScaleBarAndALegend) {
   EXPECT_TRUE(shows_text(img, box_h + 12, box_h + 12, "100 \u00b5m", 2));
   EXPECT_FALSE(shows_text(img, box_h + 12, box_h + 12, "200 \u00b5m", 2));  // the check tells texts apart
   // the legend: each phase named, and swatches in the binder's dark green and the first grain tint
-  for (const char* label : {"TATB grain (yellow tints)", "binder coat (dark green)", "pore (white)"}) {
+  for (const char* label : {"TATB grain (tinted by colour)", "binder coat (dark green)", "pore (white)"}) {
     EXPECT_TRUE(shows_text(img, box_h, img.height - 1, label, 2)) << label;
   }
   int green = 0, tint = 0;

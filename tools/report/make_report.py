@@ -466,7 +466,7 @@ def main():
     flagged = [r["id"] for r in runs if get(r["a"], "quasi_static", "flagged", default=False)]
     overlap = [r["id"] for r in runs if get(r["a"], "interpenetration", "flagged", default=False)]
     energy = [r["id"] for r in runs if get(r["a"], "energy_balance", "flagged", default=False)]
-    lines = [f"{len(runs)} runs finished; {len(flagged)} flagged as not quasi-static"
+    lines = [f"{count(len(runs), 'run', 'runs')} finished; {len(flagged)} flagged as not quasi-static"
              + (f" ({', '.join(flagged)})" if flagged else "")
              + f", {len(overlap)} for grains passing into each other, {len(energy)} for energy not conserved "
              "(run checks below)."]
@@ -480,6 +480,20 @@ def main():
             ours_drop, paper_drop = comp[-1][1] / comp[0][1] - 1, comp[-1][2] / comp[0][2] - 1
             lines.append(f"E from {comp[0][0]:.0f} to {comp[-1][0]:.0f} K: ours {100 * ours_drop:+.0f} %, "
                          f"the paper's {100 * paper_drop:+.0f} %.")
+        # K, G and the strength as ratios at each temperature, so that what disagrees most shows here too
+        p3 = dict(zip(paper.get("table3", {}).get("T_K", []), paper.get("table3", {}).get("strength_MPa", [])))
+        ratios = []
+        for c in tconds:
+            T = c.get("temperature_K")
+            if c.get("group") != "temperature" or T not in p2this:
+                continue
+            parts = [f"{name} {get(c, 'stats', key, 'mean') / 1e9 / p2this[T][pk]:.2f}"
+                     for name, key, pk in (("K", "K_Pa", "K_GPa"), ("G", "G_Pa", "G_GPa"))]
+            if T in p3:
+                parts.append(f"strength {get(c, 'stats', 'strength_Pa', 'mean') / 1e6 / p3[T]:.2f}")
+            ratios.append(f"{T:.0f} K " + ", ".join(parts))
+        if ratios:
+            lines.append("Ours / paper (Tables 2 and 3): " + "; ".join(ratios) + ".")
     else:
         lines.append("This study has none of the paper's temperature conditions: the per-condition table below is "
                      "its result; the paper's comparisons follow only where its conditions occur.")
