@@ -2,10 +2,8 @@
 #include "run/runner.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,9 +11,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "core/parallel.hpp"
 #include "io/atomic_write.hpp"
-#include "io/json.hpp"
 
 #include "pbxmpm_git.hpp"  // PBXMPM_GIT, generated at build time
 #include "run/run_id.hpp"

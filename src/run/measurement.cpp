@@ -2,21 +2,12 @@
 // interval, energies, stresses, momentum), its columns, and the check that names a non-finite particle.
 #include "run/runner.hpp"
 
-#include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 
-#include "core/error.hpp"
 #include "core/parallel.hpp"
-#include "io/atomic_write.hpp"
-#include "io/json.hpp"
 
 namespace pbx {
 

@@ -3,19 +3,13 @@
 #include "run/runner.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 
-#include "core/error.hpp"
-#include "core/parallel.hpp"
-#include "io/atomic_write.hpp"
 #include "io/json.hpp"
 
 #include <omp.h>

@@ -3,24 +3,19 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <cstdio>
 #include <atomic>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
-#include <random>
 
 #include <fmt/format.h>
 
 #include "io/atomic_write.hpp"
 #include "io/json.hpp"
 #include <omp.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include "core/error.hpp"
-#include "core/parallel.hpp"
 #include "pbxmpm_git.hpp"  // PBXMPM_GIT, generated at build time
 #include "run/run_id.hpp"
 #include "run/wall_clock.hpp"
