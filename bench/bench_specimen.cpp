@@ -79,7 +79,7 @@ int main(int argc, char** argv) try {
       ++census[static_cast<std::size_t>(k)];
     }
     long bonded = 0;
-    for (const auto b : sc.particles.bonded) bonded += b;
+    for (const auto b : sc.layer_data.particles.bonded) bonded += b;
     std::string line = fmt::format("  bonded particles {} of {}; nodes {} by fields present:", bonded,
                                    sc.particles.size(), sc.grid.nodes());
     for (std::size_t k = 0; k < census.size(); ++k)

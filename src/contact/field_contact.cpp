@@ -110,10 +110,11 @@ template <int D>
 
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
-                     ContactTally<D>* tally, bool after_update, double* layer_energy) {
+                     ContactTally<D>* tally, bool after_update, double* layer_energy, const LayerSums<D>* layer_sums) {
   if (layer_energy) *layer_energy = 0.0;
   if (deformable < 2) return 0.0;
-  const bool layers = cm.has_layers() && grid.layers();
+  const bool layers = cm.has_layers() && layer_sums != nullptr;
+  const LayerSums<D>* sums_of_layers = layers ? layer_sums : nullptr;
   const long nn = grid.nodes();
   const double area = std::pow(grid.h, D - 1);  // contact area of a node (per metre of depth in 2-D)
   const double reach = cm.position_cutoff * grid.h;
@@ -162,8 +163,8 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             const int a = present[0], b = present[1];
             const long ka = grid.at(a, i), kb = grid.at(b, i);
             Side<D> A, R;
-            A.add(grid, ka, layers);
-            R.add(grid, kb, layers);
+            A.add(grid, ka, sums_of_layers);
+            R.add(grid, kb, sums_of_layers);
             const Exchange<D> e = exchange(A, R, a, b);
             dp[0] = e.acts ? e.d : Vec<D>::Zero();
             dp[1] = e.acts ? Vec<D>(-e.d) : Vec<D>::Zero();
@@ -180,7 +181,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
               const int a = present[ia];
               const long ka = grid.at(a, i);
               Side<D> A;
-              A.add(grid, ka, layers);
+              A.add(grid, ka, sums_of_layers);
               // The rest r: every other field at the node, summed explicitly (not P - p_a) so that a
               // two-field node gets exactly opposite impulses.
               Side<D> R;
@@ -190,7 +191,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
                 const int b = present[ib];
                 if (b == a) continue;
                 const long kb = grid.at(b, i);
-                R.add(grid, kb, layers);
+                R.add(grid, kb, sums_of_layers);
                 if (grid.mass[kb] > mpartner) {
                   mpartner = grid.mass[kb];
                   partner = b;
@@ -223,7 +224,9 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
 
 template void weld_fields<2>(Grid<2>&, int, double);
 template void weld_fields<3>(Grid<3>&, int, double);
-template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double, ContactTally<2>*, bool, double*);
-template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double, ContactTally<3>*, bool, double*);
+template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double, ContactTally<2>*, bool, double*,
+                                 const LayerSums<2>*);
+template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double, ContactTally<3>*, bool, double*,
+                                 const LayerSums<3>*);
 
 }  // namespace pbx

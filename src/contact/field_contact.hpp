@@ -12,6 +12,7 @@
 // acts at nodes with three or more fields or with unpaired normals).
 #include "contact/contact_matrix.hpp"
 #include "contact/contact_tally.hpp"
+#include "contact/layer_data.hpp"
 #include "grid/grid.hpp"
 
 namespace pbx {
@@ -26,9 +27,12 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // impulses of the pass are added to it per pair of fields (history bookkeeping).
 // binder_layer pairs (contact/binder_layer.hpp) act only in the pass after the grid update
 // (after_update), where the impulse of their springs is applied; with layer_energy, the energy the
-// springs hold at the end of the step is written there, J (per metre of depth in 2-D).
+// springs hold at the end of the step is written there, J (per metre of depth in 2-D). Their springs
+// read the layer sums of the step's P2G (layer_sums; without them every binder_layer pair acts as
+// Coulomb with the layer's friction).
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
-                     ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr);
+                     ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr,
+                     const LayerSums<D>* layer_sums = nullptr);
 
 }  // namespace pbx

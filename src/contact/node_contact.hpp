@@ -8,6 +8,7 @@
 // The laws (one file each): contact/law_weld.hpp, contact/law_coulomb.hpp (frictionless, Coulomb,
 // adhesion), contact/law_binder_layer.hpp; a law registered at run time: contact/law_registry.hpp.
 #include "contact/binder_layer.hpp"
+#include "contact/layer_data.hpp"
 #include "core/tensor.hpp"
 #include "grid/grid.hpp"
 
@@ -21,17 +22,18 @@ struct Side {
   Vec<D> X = Vec<D>::Zero(), N = Vec<D>::Zero();  // binder_layer sums
   Mat<D> F = Mat<D>::Zero();
   double b = 0, t = 0;
-  void add(const Grid<D>& grid, long k, bool layers) {
+  // field entry k of the grid (and of the binder-layer sums, when the run has them)
+  void add(const Grid<D>& grid, long k, const LayerSums<D>* layers) {
     m += grid.mass[k];
     p += grid.mom[k];
     g += grid.vgrad[k];
     x += grid.moff[k];
     if (layers) {
-      X += grid.mref[k];
-      F += grid.mdef[k];
-      b += grid.mbond[k];
-      t += grid.minvt[k];
-      N += grid.mnorm[k];
+      X += layers->mref[k];
+      F += layers->mdef[k];
+      b += layers->mbond[k];
+      t += layers->minvt[k];
+      N += layers->mnorm[k];
     }
   }
   // most of its mass is bonded particles (of a grain-grain contact)

@@ -30,14 +30,6 @@ struct Grid {
   std::vector<Vec<D>> force;  // internal + external force
   std::vector<Vec<D>> vel;    // final nodal velocity of the step (v = p/m)
   std::vector<Vec<D>> dvel;   // velocity increment of the step (FLIP)
-  // Per deformable field and node, only with a binder_layer contact law (allocate_layers), for
-  // the layer's displacement jump: sum S m (X_p - origin), sum S m F_p, sum S m bonded_p.
-  std::vector<Vec<D>> mref;
-  std::vector<Mat<D>> mdef;
-  std::vector<double> mbond;
-  std::vector<Vec<D>> mnorm;  // sum S m F^-T N0: the field's contact normal (towards the other side)
-  std::vector<double> minvt;  // sum S m bonded_p / t_p: with mbond, the node's mean 1/t (pair thicknesses differ)
-  bool layers() const { return !mbond.empty(); }
   // Per rigid field and node: the body's presence (sum of S_ip over its rigid particles), at
   // (field - deformable)*nodes()+i.
   std::vector<double> presence;
@@ -75,14 +67,6 @@ struct Grid {
     force.assign(size, Vec<D>::Zero());
     vel.assign(size, Vec<D>::Zero());
     dvel.assign(size, Vec<D>::Zero());
-  }
-  void allocate_layers() {
-    const std::size_t size = mass.size();
-    mref.assign(size, Vec<D>::Zero());
-    mdef.assign(size, Mat<D>::Zero());
-    mbond.assign(size, 0.0);
-    mnorm.assign(size, Vec<D>::Zero());
-    minvt.assign(size, 0.0);
   }
 };
 

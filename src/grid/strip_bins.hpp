@@ -1,7 +1,7 @@
 #pragma once
 // The grid's strips: its node columns split into vertical strips of `width` >= 3 cells, each the
-// home of the particles stored in one storage range (the owned ranges a domain decomposition over
-// processes would generalise, with the stencil's one node column on each side as the ghost layer).
+// home of the particles stored in one storage range: a Domain (grid/domain.hpp) owning the strip's
+// node columns, whose ghost layers are the columns its particles' stencils reach beyond it.
 // They give a race-free, deterministic parallel scatter. A
 // particle's 3x3 stencil reaches one node column beyond its strip on each side, so strips of the
 // same parity never touch the same node: even strips scatter in parallel, then odd strips.
@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "grid/domain.hpp"
 #include "grid/grid.hpp"
 
 namespace pbx {
@@ -43,6 +44,16 @@ struct StripBins {
   long phase_strip(int phase, long k) const {
     const long half = (phase_size(phase) + 1) / 2;
     return phase + 2 * (k % 2 == 0 ? k / 2 : half + k / 2);
+  }
+  // Strip s as a domain: its cells' node columns (the outer strips to the grid's edges), every node
+  // along the other axes. Two strips of one parity have disjoint reach when width >= 3 (test).
+  template <int D>
+  Domain<D> domain(const Grid<D>& g, long s) const {
+    Domain<D> dom;
+    for (int d = 0; d < D; ++d) dom.owned.lo[d] = 0, dom.owned.hi[d] = g.n[d];
+    if (s > 0) dom.owned.lo[0] = s * width;
+    if (s < strips - 1) dom.owned.hi[0] = (s + 1) * width;
+    return dom;
   }
   // strip_of_cell(cell_x) == s, without the division (the outer strips take every cell beyond)
   bool in_strip(long cell_x, long s) const {

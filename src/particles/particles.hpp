@@ -11,6 +11,27 @@
 
 namespace pbx {
 
+// Puts a[order[k]] at position k (order is a permutation of 0..size()-1; an empty array is left
+// empty). In place, by following the permutation's cycles, so the peak memory of a run (the
+// footprint target) does not grow by a copy of the arrays; `done` is scratch, reused across arrays.
+template <class T>
+void permute_in_place(std::vector<T>& a, const std::vector<std::uint32_t>& order, std::vector<bool>& done) {
+  if (a.empty()) return;
+  done.assign(order.size(), false);
+  for (std::size_t start = 0; start < order.size(); ++start) {
+    if (done[start]) continue;
+    T first = a[start];
+    std::size_t k = start;
+    while (order[k] != start) {
+      a[k] = a[order[k]];
+      done[k] = true;
+      k = order[k];
+    }
+    a[k] = first;
+    done[k] = true;
+  }
+}
+
 template <int D>
 struct Particles {
   std::vector<Vec<D>> x;               // position, m
@@ -24,13 +45,6 @@ struct Particles {
   std::vector<std::int32_t> material;  // index into the run's material list
   std::vector<std::int32_t> field;     // contact (velocity) field index
   std::vector<std::uint32_t> slot;     // history slot inside the particle's material
-  // Only with a binder_layer contact law (contact/binder_layer.hpp), else empty: the reference
-  // position (the layer's jump is a displacement difference) and whether the particle lies at a
-  // bonded grain-grain contact (set once by build_scene).
-  std::vector<Vec<D>> X0;            // m
-  std::vector<std::uint8_t> bonded;  // 0 or 1
-  std::vector<Vec<D>> N0;            // bonded: unit normal of its contact, towards the other grain
-  std::vector<double> layer_inv_t;   // bonded: 1 / thickness of its contact's layer, 1/m (0 if not bonded)
 
   std::size_t size() const { return x.size(); }
 
@@ -52,37 +66,18 @@ struct Particles {
   // array at a time by following the permutation's cycles, so the peak memory of the run (the
   // footprint target) does not grow by a copy of the arrays.
   void reorder(const std::vector<std::uint32_t>& order) {
-    std::vector<bool> done(order.size());
-    auto permute = [&](auto& a) {
-      std::fill(done.begin(), done.end(), false);
-      for (std::size_t start = 0; start < order.size(); ++start) {
-        if (done[start]) continue;
-        auto first = a[start];
-        std::size_t k = start;
-        while (order[k] != start) {
-          a[k] = a[order[k]];
-          done[k] = true;
-          k = order[k];
-        }
-        a[k] = first;
-        done[k] = true;
-      }
-    };
-    permute(x);
-    permute(v);
-    permute(mass);
-    permute(volume0);
-    permute(volume);
-    permute(F);
-    permute(L);
-    permute(stress);
-    permute(material);
-    permute(field);
-    permute(slot);
-    if (!X0.empty()) permute(X0);
-    if (!bonded.empty()) permute(bonded);
-    if (!N0.empty()) permute(N0);
-    if (!layer_inv_t.empty()) permute(layer_inv_t);
+    std::vector<bool> done;
+    permute_in_place(x, order, done);
+    permute_in_place(v, order, done);
+    permute_in_place(mass, order, done);
+    permute_in_place(volume0, order, done);
+    permute_in_place(volume, order, done);
+    permute_in_place(F, order, done);
+    permute_in_place(L, order, done);
+    permute_in_place(stress, order, done);
+    permute_in_place(material, order, done);
+    permute_in_place(field, order, done);
+    permute_in_place(slot, order, done);
   }
 
   std::size_t add(const Vec<D>& pos, double vol, double m, int mat, int fld) {

@@ -620,7 +620,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
            8.0 * static_cast<double>(sc.bodies.size())),
       fmt::format("the grid's {} nodes with {} velocity fields", sc.grid.nodes(), sc.deformable_fields));
   sc.grid.allocate(sc.deformable_fields, static_cast<int>(sc.bodies.size()));
-  if (sc.contact.has_layers()) sc.grid.allocate_layers();
+  if (sc.contact.has_layers()) sc.layer_data.sums.allocate(sc.grid.mass.size());
   return sc;
 }
 

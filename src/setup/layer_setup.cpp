@@ -96,9 +96,10 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
 
   // reference positions and bond flags
   auto& P = sc.particles;
+  LayerParticles<D>& LP = sc.layer_data.particles;
   const std::size_t np = P.size();
-  P.X0 = P.x;
-  P.bonded.assign(np, 0);
+  LP.X0 = P.x;
+  LP.bonded.assign(np, 0);
   const double h = sc.grid.h, spacing = h / sc.settings.ppc;
   const bool coats = std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.from_coats; });
   if (coats && sc.grain_coat.size() != np)
@@ -220,8 +221,8 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
                                              p, P.x[p][0], P.x[p][1]));
   // bonded particles: within two cells of a touching particle of their own field; their normal
   // and 1/t are the means of those particles'
-  P.N0.assign(np, Vec<D>::Zero());
-  P.layer_inv_t.assign(np, 0.0);
+  LP.N0.assign(np, Vec<D>::Zero());
+  LP.inv_t.assign(np, 0.0);
 #pragma omp parallel for schedule(static)
   for (std::size_t p = 0; p < np; ++p) {
     Vec<D> sum = Vec<D>::Zero();
@@ -233,8 +234,8 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       return false;
     });
     const double len = sum.norm();
-    P.bonded[p] = len > 0.0;
-    if (len > 0.0) P.N0[p] = sum / len, P.layer_inv_t[p] = scale_sum / n;
+    LP.bonded[p] = len > 0.0;
+    if (len > 0.0) LP.N0[p] = sum / len, LP.inv_t[p] = scale_sum / n;
   }
 }
 

@@ -33,6 +33,7 @@ void order_by_strip(Scene<D>& sc) {
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
     P.reorder(order);
+    sc.layer_data.particles.reorder(order);
     // the per-particle data the layers' setup reads move with the particles
     const auto permute = [&](auto& v) {
       if (v.empty()) return;

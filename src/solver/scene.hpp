@@ -9,6 +9,7 @@
 #include "bodies/die.hpp"
 #include "bodies/rigid_body.hpp"
 #include "contact/contact_matrix.hpp"
+#include "contact/layer_data.hpp"
 #include "grid/grid.hpp"
 #include "grid/shape.hpp"
 #include "materials/material.hpp"
@@ -50,6 +51,8 @@ struct Scene {
   RunControl control;
   Grid<D> grid;
   Particles<D> particles;
+  // only with a binder_layer contact law: its per-particle data and per-node sums
+  LayerData<D> layer_data;
   std::vector<std::string> material_names;
   std::vector<std::unique_ptr<Material<D>>> materials;
   std::vector<MaterialState> material_state;

@@ -174,7 +174,8 @@ void Solver<D>::reset_grid() {
   const auto timer = clock_.scope(Stage::reset);
   auto& g = sc_.grid;
   const long n = static_cast<long>(g.mass.size());
-  const bool gradients = track_gradients_, layers = g.layers();
+  const bool gradients = track_gradients_, layers = sc_.layer_data.on();
+  auto& sums = sc_.layer_data.sums;
   const bool all = sc_.settings.kernel == Kernel::linear;
 #pragma omp parallel for schedule(static)
   for (long k = 0; k < n; ++k) {
@@ -184,13 +185,7 @@ void Solver<D>::reset_grid() {
     g.moff[k].setZero();
     g.force[k].setZero();
     if (gradients) g.vgrad[k].setZero();
-    if (layers) {
-      g.mref[k].setZero();
-      g.mdef[k].setZero();
-      g.mbond[k] = 0.0;
-      g.minvt[k] = 0.0;
-      g.mnorm[k].setZero();
-    }
+    if (layers) sums.zero(static_cast<std::size_t>(k));
   }
 }
 
@@ -211,11 +206,22 @@ Scatter<D> Solver<D>::scatter(bool mass_momentum, bool forces) {
   // Mass-centre offsets serve the rigid-body contact gate, the field position check
   // (contact.position_check), which without them would compare zero offsets and never fire, and
   // the binder_layer jump (its fields' mass centres), which without them would read a fixed jump.
-  const bool for_contact = sc_.contact.position_cutoff > 0.0 || sc_.grid.layers();
+  const bool layers = sc_.layer_data.on();
+  const bool for_contact = sc_.contact.position_cutoff > 0.0 || layers;
   const bool offsets = !sc_.bodies.empty() || for_contact;
-  return Scatter<D>{
-      sc_.grid, sc_.particles,    sc_.settings.mass_scaling, grav,       grav.squaredNorm() > 0, mass_momentum, forces,
-      offsets,  track_gradients_, sc_.grid.layers(),         for_contact};
+  Scatter<D> s{sc_.grid,
+               sc_.particles,
+               sc_.settings.mass_scaling,
+               grav,
+               grav.squaredNorm() > 0,
+               mass_momentum,
+               forces,
+               offsets,
+               track_gradients_,
+               layers,
+               for_contact};
+  s.layer_data = &sc_.layer_data;
+  return s;
 }
 
 // Even strips in parallel, then odd strips, then the strays serially (grid/strip_bins.hpp).
@@ -298,7 +304,8 @@ void Solver<D>::contact(bool record, bool after_update) {
     if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
     double energy = 0;
     const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
-                                             record ? &contact_tally_ : nullptr, after_update, &energy);
+                                             record ? &contact_tally_ : nullptr, after_update, &energy,
+                                             sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr);
     if (record) dissipated_ += friction;
     if (after_update) layer_energy_ = energy;
   }

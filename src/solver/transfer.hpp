@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 
+#include "contact/layer_data.hpp"
 #include "grid/grid.hpp"
 #include "grid/shape.hpp"
 #include "particles/particles.hpp"
@@ -30,22 +31,24 @@ inline Mat<D> in_plane(const Sym3& s) {
 // only its reference position and F: most particles lie away from a grain-grain contact, and
 // adding their zeros was a fifth of the scatter on the paper specimen.
 template <int D>
-inline void scatter_layer_row(Grid<D>& g, const Particles<D>& P, std::uint32_t p, long off, long r,
+inline void scatter_layer_row(LayerData<D>& l, const Vec<D>& origin, const Mat<D>& F, std::uint32_t p, long off, long r,
                               const std::array<double, 3>& wx, double mj, const Vec<D>& normal) {
-  const Vec<D> xj = mj * (P.X0[p] - g.origin);
-  const Mat<D> fj = mj * P.F[p];
+  const LayerParticles<D>& lp = l.particles;
+  LayerSums<D>& s = l.sums;
+  const Vec<D> xj = mj * (lp.X0[p] - origin);
+  const Mat<D> fj = mj * F;
   for (int i = 0; i < 3; ++i) {
-    g.mref[off + r + i] += wx[i] * xj;
-    g.mdef[off + r + i] += wx[i] * fj;
+    s.mref[off + r + i] += wx[i] * xj;
+    s.mdef[off + r + i] += wx[i] * fj;
   }
-  if (!P.bonded[p]) return;
-  const double bj = mj * P.bonded[p];
-  const double tj = mj * P.layer_inv_t[p];
+  if (!lp.bonded[p]) return;
+  const double bj = mj * lp.bonded[p];
+  const double tj = mj * lp.inv_t[p];
   const Vec<D> nj = mj * normal;
   for (int i = 0; i < 3; ++i) {
-    g.mbond[off + r + i] += wx[i] * bj;
-    g.minvt[off + r + i] += wx[i] * tj;
-    g.mnorm[off + r + i] += wx[i] * nj;
+    s.mbond[off + r + i] += wx[i] * bj;
+    s.minvt[off + r + i] += wx[i] * tj;
+    s.mnorm[off + r + i] += wx[i] * nj;
   }
 }
 
@@ -70,6 +73,8 @@ struct Scatter {
   // nodes where two or more fields can be present this step (Solver::mark_contact_bases; 2-D;
   // null: every particle)
   const std::uint8_t* contact_bases = nullptr;
+  // with layers: the binder_layer data the sums are built from and into
+  LayerData<D>* layer_data = nullptr;
 
   [[gnu::always_inline]] void operator()(std::uint32_t p, const Stencil<D>& st) const {
     const long off = P.field[p] * g.nodes();  // a product of two longs in 2-D
@@ -103,7 +108,9 @@ struct Scatter {
                  do_offsets = offsets && ((offset_bases == nullptr || offset_bases[b0] != 0) ||
                                           (offsets_for_contact && near_contact));
       // the particle's contact normal, mapped with F^-T (binder_layer runs only): once per particle
-      const Vec<D> normal = do_layers && P.bonded[p] ? Vec<D>(P.F[p].inverse().transpose() * P.N0[p]) : Vec<D>::Zero();
+      const Vec<D> normal = do_layers && layer_data->particles.bonded[p]
+                                ? Vec<D>(P.F[p].inverse().transpose() * layer_data->particles.N0[p])
+                                : Vec<D>::Zero();
       const Vec<D> s0 = sv.col(0), s1 = sv.col(1);
       for (int j = 0; j < 3; ++j) {
         const long r = b0 + j * row_stride;
@@ -128,7 +135,7 @@ struct Scatter {
             gg[r + 1] += vol * Vec<D>(gx1 * wy, wx1 * gy);
             gg[r + 2] += vol * Vec<D>(gx2 * wy, wx2 * gy);
           }
-          if (do_layers) scatter_layer_row<D>(g, P, p, off, r, {wx0, wx1, wx2}, mj, normal);
+          if (do_layers) scatter_layer_row<D>(*layer_data, g.origin, P.F[p], p, off, r, {wx0, wx1, wx2}, mj, normal);
         }
         if (do_forces) {
           const Vec<D> fa = wy * s0, fb = gy * s1;
@@ -153,18 +160,20 @@ struct Scatter {
         if (offsets) for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { go[i] += (S * m) * xs; });
         if (gradients) for_each_node<D>(st, g.stride, [&](long i, double, const Vec<D>& G) { gg[i] += vol * G; });
         if (layers) {
+          const LayerParticles<D>& lp = layer_data->particles;
+          LayerSums<D>& ls = layer_data->sums;
           for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
             const double sm = S * m;
-            g.mref[off + i] += sm * (P.X0[p] - g.origin);
-            g.mdef[off + i] += sm * P.F[p];
+            ls.mref[off + i] += sm * (lp.X0[p] - g.origin);
+            ls.mdef[off + i] += sm * P.F[p];
           });
-          if (P.bonded[p]) {  // (as in 2-D: the rest are zero for a particle that is not bonded)
-            const Vec<D> normal = P.F[p].inverse().transpose() * P.N0[p];
+          if (lp.bonded[p]) {  // (as in 2-D: the rest are zero for a particle that is not bonded)
+            const Vec<D> normal = P.F[p].inverse().transpose() * lp.N0[p];
             for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
               const double sm = S * m;
-              g.mbond[off + i] += sm * P.bonded[p];
-              g.minvt[off + i] += sm * P.layer_inv_t[p];
-              g.mnorm[off + i] += sm * normal;
+              ls.mbond[off + i] += sm * lp.bonded[p];
+              ls.minvt[off + i] += sm * lp.inv_t[p];
+              ls.mnorm[off + i] += sm * normal;
             });
           }
         }

@@ -189,8 +189,8 @@ TEST(BinderLayer, StiffnessesAreTheBindersSecantModuliOverTheLoadTime) {
     // the bonded particles carry 1/t of the 2 um layer, the others nothing
     int bonded = 0;
     for (std::size_t p = 0; p < fixed.particles.size(); ++p) {
-      EXPECT_EQ(fixed.particles.layer_inv_t[p], fixed.particles.bonded[p] ? 1.0 / 2e-6 : 0.0);
-      bonded += fixed.particles.bonded[p];
+      EXPECT_EQ(fixed.layer_data.particles.inv_t[p], fixed.layer_data.particles.bonded[p] ? 1.0 / 2e-6 : 0.0);
+      bonded += fixed.layer_data.particles.bonded[p];
     }
     EXPECT_GT(bonded, 0);
     Scene<2> elapsed = test::scene_from(binder_deck(c.T, "\"elapsed\""));
@@ -310,9 +310,9 @@ TEST(BinderLayer, CoatThicknessesComeFromEachContactsGrains) {
   double lo = 1e300, hi = 0;
   int bonded = 0;
   for (std::size_t p = 0; p < one.particles.size(); ++p) {
-    ASSERT_EQ(one.particles.bonded[p], two.particles.bonded[p]) << p;
-    const double a = one.particles.layer_inv_t[p], b = two.particles.layer_inv_t[p];
-    if (!one.particles.bonded[p]) {
+    ASSERT_EQ(one.layer_data.particles.bonded[p], two.layer_data.particles.bonded[p]) << p;
+    const double a = one.layer_data.particles.inv_t[p], b = two.layer_data.particles.inv_t[p];
+    if (!one.layer_data.particles.bonded[p]) {
       EXPECT_EQ(a, 0.0);
       continue;
     }

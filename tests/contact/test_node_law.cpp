@@ -170,21 +170,22 @@ namespace {
 // b's), b displaced from its reference by (-closing, sliding): a compressed and sheared layer.
 struct LayerNode {
   Grid<2> g = one_node(2);
+  LayerSums<2> s;
   ContactMatrix cm;
   LayerNode(double t_a, double t_b, double closing, double sliding, double mu, bool cap) {
     two_bodies(g, Vec<2>::Zero(), Vec<2>::Zero());
-    g.allocate_layers();
+    s.allocate(g.mass.size());
     const double m[2] = {2.0, 3.0};
     const Vec<2> shift[2] = {Vec<2>::Zero(), Vec<2>(-closing, sliding)};
     const double t[2] = {t_a, t_b};
     for (int f = 0; f < 2; ++f) {
       const Vec<2> X(f == 0 ? 1e-5 : 2e-5, 1e-5);  // mass centres, reference
       g.moff[f] = m[f] * (X + shift[f]);
-      g.mref[f] = m[f] * X;
-      g.mdef[f] = m[f] * Mat<2>::Identity();
-      g.mbond[f] = m[f];
-      g.minvt[f] = m[f] / t[f];
-      g.mnorm[f] = m[f] * Vec<2>(f == 0 ? 1.0 : -1.0, 0.0);  // each side's normal towards the other
+      s.mref[f] = m[f] * X;
+      s.mdef[f] = m[f] * Mat<2>::Identity();
+      s.mbond[f] = m[f];
+      s.minvt[f] = m[f] / t[f];
+      s.mnorm[f] = m[f] * Vec<2>(f == 0 ? 1.0 : -1.0, 0.0);  // each side's normal towards the other
     }
     cm = matrix(2, law_of(ContactLaw::binder_layer, mu, 0));
     for (auto& p : cm.pair) p.layer = 0;
@@ -211,7 +212,7 @@ TEST(NodeLaw, BinderLayerSpringWithPairThicknessAndCoulombCap) {
     for (const double tb : {4e-6, 8e-6}) {
       LayerNode n(4e-6, tb, closing, sliding, mu, cap);
       const double inv_t = (2.0 / 4e-6 + 3.0 / tb) / 5.0;
-      field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+      field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true, nullptr, &n.s);
       const double kn = 0.75 * 3.6e8 * inv_t, kt = 0.75 * 7.0e7 * inv_t;
       const double Jn = dt * kn / (1.0 + kn * dt * dt / kMuRed) * closing;  // pushes a to -x
       double Jt = dt * kt / (1.0 + kt * dt * dt / kMuRed) * sliding;        // drags a to +y
@@ -228,7 +229,7 @@ TEST(NodeLaw, BinderLayerSpringWithPairThicknessAndCoulombCap) {
 TEST(NodeLaw, BinderLayerCappedShearVanishesInTension) {
   const double dt = 1e-6;
   LayerNode n(4e-6, 4e-6, -0.2e-6, 0.3e-6, 0.3, true);
-  field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+  field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true, nullptr, &n.s);
   EXPECT_GT(n.g.mom[0].x(), 0.0);  // a pulled towards b
   EXPECT_EQ(n.g.mom[0].y(), 0.0);
 }
@@ -237,10 +238,10 @@ TEST(NodeLaw, BinderLayerCappedShearVanishesInTension) {
 // Coulomb contact; at rest that exchanges nothing.
 TEST(NodeLaw, BinderLayerSqueezedOutPastItsThickness) {
   LayerNode n(4e-6, 4e-6, 4.1e-6, 0.0, 0.3, true);
-  field_contact<2>(n.g, n.cm, 2, 1e-6, 0.0, nullptr, true);
+  field_contact<2>(n.g, n.cm, 2, 1e-6, 0.0, nullptr, true, nullptr, &n.s);
   EXPECT_EQ(n.g.mom[0].x(), 0.0);
   LayerNode m(4e-6, 4e-6, 3.9e-6, 0.0, 0.3, true);
-  field_contact<2>(m.g, m.cm, 2, 1e-6, 0.0, nullptr, true);
+  field_contact<2>(m.g, m.cm, 2, 1e-6, 0.0, nullptr, true, nullptr, &m.s);
   EXPECT_LT(m.g.mom[0].x(), 0.0);
 }
 
@@ -248,10 +249,10 @@ TEST(NodeLaw, BinderLayerSqueezedOutPastItsThickness) {
 // is Coulomb, inactive while the sides are apart; just below, the spring pulls a towards b.
 TEST(NodeLaw, BinderLayerTornOpenPastItsThickness) {
   LayerNode n(4e-6, 4e-6, -4.1e-6, 0.0, 0.3, true);
-  field_contact<2>(n.g, n.cm, 2, 1e-9, 0.0, nullptr, true);
+  field_contact<2>(n.g, n.cm, 2, 1e-9, 0.0, nullptr, true, nullptr, &n.s);
   EXPECT_EQ(n.g.mom[0].x(), 0.0);
   LayerNode m(4e-6, 4e-6, -3.9e-6, 0.0, 0.3, true);
-  field_contact<2>(m.g, m.cm, 2, 1e-9, 0.0, nullptr, true);
+  field_contact<2>(m.g, m.cm, 2, 1e-9, 0.0, nullptr, true, nullptr, &m.s);
   EXPECT_GT(m.g.mom[0].x(), 0.0);
 }
 
@@ -272,7 +273,7 @@ TEST(NodeLaw, FlowingBinderLayerCapsItsNormalTraction) {
       n.cm.layers[0].flow_stress = p;
     else
       n.cm.layers[0].flow_factor = p / 7.0e7;
-    const double w = field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+    const double w = field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true, nullptr, &n.s);
     const double J = dt * area * p;
     EXPECT_NEAR(n.g.mom[0].x(), -J, 1e-9 * J) << how;
     EXPECT_NEAR(n.g.mom[0].y(), mu * J, 1e-9 * J) << how;  // Eq. 7 on the capped traction
@@ -286,7 +287,7 @@ TEST(NodeLaw, FlowingBinderLayerCapsItsNormalTraction) {
   LayerNode deep(4e-6, 4e-6, 6e-6, 0.0, mu, true);
   deep.cm.layers[0].flow_stress = 1e6;
   double stored = 0;
-  field_contact<2>(deep.g, deep.cm, 2, dt, 0.0, nullptr, true, &stored);
+  field_contact<2>(deep.g, deep.cm, 2, dt, 0.0, nullptr, true, &stored, &deep.s);
   EXPECT_NEAR(deep.g.mom[0].x(), -dt * area * 1e6, 1e-9 * dt * area * 1e6);
   const double F = area * 1e6, k = area * 3.6e8 / 4e-6;
   EXPECT_NEAR(stored, 0.5 * F * F / k, 1e-9 * F * F / k);
@@ -301,7 +302,7 @@ TEST(NodeLaw, FlowingBinderLayerBooksItsPlasticWork) {
   const Vec<2> va(5.0, 0.0), vb(-5.0, 0.0);  // closing at 10 m/s
   n.g.mom[0] = 2.0 * va;
   n.g.mom[1] = 3.0 * vb;
-  const double w = field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true);
+  const double w = field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true, nullptr, &n.s);
   const double J = dt * area * p;
   // end-of-step closure added: dt x (relative speed after the cap's impulse)
   const double vrel_after = 10.0 - J / kMuRed;

@@ -23,8 +23,9 @@ struct Sums {
   std::vector<Vec<2>> moff, vgrad, mref, mnorm;
   std::vector<Mat<2>> mdef;
   std::vector<double> mbond, minvt;
-  explicit Sums(const Grid<2>& g) : moff(g.moff), vgrad(g.vgrad) {
-    if (g.layers()) mref = g.mref, mnorm = g.mnorm, mdef = g.mdef, mbond = g.mbond, minvt = g.minvt;
+  explicit Sums(const Scene<2>& sc) : moff(sc.grid.moff), vgrad(sc.grid.vgrad) {
+    const LayerSums<2>& l = sc.layer_data.sums;
+    if (sc.layer_data.on()) mref = l.mref, mnorm = l.mnorm, mdef = l.mdef, mbond = l.mbond, minvt = l.minvt;
   }
   // every contact sum of node entry k equal to the bit
   bool same(const Sums& o, long k) const {
@@ -53,10 +54,10 @@ MaskCheck check_mask(Scene<2>& sc, int steps, const std::function<void()>& befor
   MaskCheck r;
   for (int step = 0; step < steps; ++step) {
     solver.step();
-    const Sums pass(g);
+    const Sums pass(sc);
     solver.reset_grid();
     solver.p2g(true);  // the stand-alone P2G, every particle, in the pass's order
-    const Sums full(g);
+    const Sums full(sc);
     for (long i = 0; i < nn; ++i) {
       int present = 0;
       for (int f = 0; f < nf; ++f) present += g.mass[g.at(f, i)] > 0.0;
@@ -92,7 +93,7 @@ std::string paper_deck(const std::string& cell) {
 TEST(ContactMask, ContactSumsOnThePaperSpecimenEqualAFullScatter) {
   Deck deck = Deck::from_string(paper_deck("10 um"), "base.toml", PBXMPM_EXAMPLES_DIR "/paper");
   Scene<2> sc = build_scene<2>(deck, SceneNotes::quiet);
-  ASSERT_TRUE(sc.grid.layers());
+  ASSERT_TRUE(sc.layer_data.on());
   const MaskCheck r = check_mask(sc, 100);
   EXPECT_EQ(r.mismatches, 0);
   EXPECT_GT(r.contact_entries, 100L * 5000);
