@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "../deck_parts.hpp"
 #include "../engine/scene_fixture.hpp"
 
 using namespace pbx;
@@ -30,40 +31,13 @@ snapshots = 0
 cell_size = "10 um"
 min = ["-0.05 mm", "-0.06 mm"]
 max = ["0.45 mm", "0.2 mm"]
-[materials.lower]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[materials.upper]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.4 mm", "0.06 mm"]
-material = "lower"
-[[geometry]]
-min = ["0.1 mm", "0.06 mm"]
-max = ["0.3 mm", "0.12 mm"]
-material = "upper"
-[[rigid]]
-name = "clamp"
-min = ["0 mm", "-0.04 mm"]
-max = ["0.4 mm", "0 mm"]
-normal = [0, 1]
-contact = "stick"
-[[rigid]]
-name = "plate"
-min = ["0.1 mm", "0.12 mm"]
-max = ["0.3 mm", "0.16 mm"]
-normal = [0, -1]
-contact = "stick"
-velocity = ["2 m/s", "-0.5 m/s"]
-ramp_time = "0.5 us"
-[contact]
-)" + law;
+)" + test::elastic("lower", 2.0, 1, 0.3) +
+         test::elastic("upper", 2.0, 1, 0.3) + test::box_mm(0, 0, 0.4, 0.06, "lower") +
+         test::box_mm(0.1, 0.06, 0.3, 0.12, "upper") +
+         test::rigid_box_mm("clamp", 0, -0.04, 0.4, 0, 0, 1, "contact = \"stick\"\n") +
+         test::rigid_box_mm("plate", 0.1, 0.12, 0.3, 0.16, 0, -1,
+                            "contact = \"stick\"\nvelocity = [\"2 m/s\", \"-0.5 m/s\"]\nramp_time = \"0.5 us\"\n") +
+         "[contact]\n" + law;
 }
 
 struct Row {

@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "../deck_parts.hpp"
 #include "../engine/scene_fixture.hpp"
 
 using namespace pbx;
@@ -41,49 +42,15 @@ max = ["0.46 mm", "0.1 mm"]
 [solver]
 integrator = "{}"
 gravity = [{}, {}]
-[materials.block]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.2 mm", "0.04 mm"]
-material = "block"
 )",
-                                 integrator, gx, gy);
+                                 integrator, gx, gy) +
+                     test::elastic("block", 2.0, 1, 0.3) + test::box_mm(0, 0, 0.2, 0.04, "block");
   if (plane == Plane::rigid) {
-    text += fmt::format(R"(
-[[rigid]]
-name = "plane"
-min = ["-0.04 mm", "-0.04 mm"]
-max = ["0.44 mm", "0 mm"]
-normal = [0, 1]
-friction = {}
-)",
-                        mu);
+    text += test::rigid_box_mm("plane", -0.04, -0.04, 0.44, 0, 0, 1, fmt::format("friction = {}\n", mu));
   } else {
-    text += fmt::format(R"(
-[materials.plane]
-model = "linear_elastic"
-density = "20 g/cm3"
-youngs_modulus = "20 GPa"
-poisson_ratio = 0.3
-[[geometry]]
-min = ["-0.04 mm", "-0.04 mm"]
-max = ["0.44 mm", "0 mm"]
-material = "plane"
-[[rigid]]
-name = "clamp"
-min = ["-0.04 mm", "-0.06 mm"]
-max = ["0.44 mm", "-0.02 mm"]
-normal = [0, 1]
-contact = "stick"
-[contact]
-default = "coulomb"
-friction = {}
-)",
-                        mu);
+    text += test::elastic("plane", 20, 20, 0.3) + test::box_mm(-0.04, -0.04, 0.44, 0, "plane") +
+            test::rigid_box_mm("clamp", -0.04, -0.06, 0.44, -0.02, 0, 1, "contact = \"stick\"\n") +
+            fmt::format("[contact]\ndefault = \"coulomb\"\nfriction = {}\n", mu);
   }
   return text;
 }

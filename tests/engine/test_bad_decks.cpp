@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../deck_parts.hpp"
 #include "block_deck.hpp"
 #include "setup/build_scene.hpp"
 #include "core/error.hpp"
@@ -110,15 +111,8 @@ snapshots = 0
 cell_size = "10 um"
 min = ["-0.05 mm", "-0.05 mm"]
 max = ["0.45 mm", "0.45 mm"]
-[materials.disk]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[[geometry]]
-min = ["0 mm", "0 mm"]
-max = ["0.1 mm", "0.1 mm"]
-material = "disk"
+)" + test::elastic("disk", 2.0, 1, 0.3) +
+                           test::box_mm(0, 0, 0.1, 0.1, "disk") + R"(
 [[rigid]]
 name = "roller"
 shape = "disk"

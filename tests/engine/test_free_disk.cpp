@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../deck_parts.hpp"
 #include "scene_fixture.hpp"
 
 using namespace pbx;
@@ -22,18 +23,8 @@ cell_size = "10 um"
 min = ["-0.05 mm", "-0.05 mm"]
 max = ["0.45 mm", "0.45 mm"]
 [solver]
-integrator = ")") + integ + R"("
-[materials.disk]
-model = "linear_elastic"
-density = "2.0 g/cm3"
-youngs_modulus = "1 GPa"
-poisson_ratio = 0.3
-[[geometry]]
-shape = "disk"
-center = ["0.15 mm", "0.15 mm"]
-radius = "0.08 mm"
-material = "disk"
-)";
+integrator = ")") + integ + "\"\n" +
+                             test::elastic("disk", 2.0, 1, 0.3) + test::disk_mm(0.15, 0.15, 0.08, "disk");
     Scene<2> sc = test::scene_from(deck);
     double m0 = 0;
     for (std::size_t p = 0; p < sc.particles.size(); ++p) {
