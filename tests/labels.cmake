@@ -18,8 +18,8 @@ set(PBXMPM_LABELLED_TESTS
   contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow
-  app OwnStudy.BinderTwiceAsStiffIsAnsweredByTheConditionsTable slow
-  app OwnStudy.PorosityQuestionIsAnsweredWithPairedSeeds slow
+  app OwnStudy.BinderTwiceAsStiffIsAnsweredByTheConditionsTable slow,mpi
+  app OwnStudy.PorosityQuestionIsAnsweredWithPairedSeeds slow,mpi
   study Study.MpiTwoRanksEqualsSequentialAndResumes slow,mpi
   study Study.ResumedStudyUnderMpiKeepsBothRanksBusy slow,mpi
   study Study.RunFailingOnOneRankLeavesTheOtherRanksRunsWhole mpi

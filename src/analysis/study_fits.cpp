@@ -55,6 +55,30 @@ std::string group_of(const StudyRun& r) {
   }
   return g;
 }
+// The deck key a run's group varies, as study.json (or its run.json) records it; empty in a
+// study.json written before 2026-12-06 or by hand.
+std::string key_of(const StudyRun& r) {
+  std::string key = str(r.entry, "key");
+  if (key.empty()) {
+    if (const Json* s = json_find(r.analysis, "study")) key = str(*s, "key");
+  }
+  return key;
+}
+// The paper's sweep a run belongs to, by what its group varies: "temperature" (run.temperature)
+// or "density" (packing.porosity) when the study gives that key two or more values (a reference
+// group that fixes the temperature at 293 K is no sweep), "none" for any other key, whatever the
+// group is called. Without keys the group's name decides, and a run without a group counts for
+// both sweeps ("both"). `values` holds the distinct values each key takes in the study.
+std::string sweep_of(const StudyRun& r, const std::map<std::string, std::set<std::string>>& values) {
+  const std::string key = key_of(r);
+  if (!key.empty()) {
+    const auto it = values.find(key);
+    if (it == values.end() || it->second.size() < 2) return "none";
+    return key == "run.temperature" ? "temperature" : key == "packing.porosity" ? "density" : "none";
+  }
+  const std::string g = group_of(r);
+  return g == "temperature" || g == "density" ? g : g.empty() ? "both" : "none";
+}
 
 struct Quantity {
   const char* name;
@@ -287,6 +311,11 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     double T = 0, rho_nominal = 0;
     std::vector<const StudyRun*> runs;
   };
+  std::map<std::string, std::set<std::string>> key_values;  // distinct study values per varied key
+  for (const auto& r : runs)
+    if (const std::string key = key_of(r); !key.empty()) key_values[key].insert(str(r.entry, "value"));
+  std::map<std::string, std::string> sweep;  // per run id
+  for (const auto& r : runs) sweep[r.id] = sweep_of(r, key_values);
   std::vector<Cond> conds;
   for (const auto& r : runs) {
     const std::string g = group_of(r);
@@ -329,27 +358,31 @@ Json fit_study(const std::vector<StudyRun>& runs, const StudyFitOptions& opt) {
     // the bounds of the condition's own materials (its first run): conditions may differ in
     // material (a stiffer binder), temperature and porosity
     e["hashin_shtrikman"] = bounds_json(*c.runs.front(), opt);
+    e["sweep"] = sweep.at(c.runs.front()->id);
     cj.push_back(e);
   }
   out["conditions"] = cj;
 
-  // The paper's fits need its sweeps: study groups named "temperature" and "density" (as
-  // examples/paper/*.toml; a hand-made study.json without groups counts for both). A study without
-  // them (its own question: groups "reference" and "binder_x2") gets none of the paper's fits, and
-  // each note says so instead of "0 points".
+  // The paper's fits need its sweeps: study groups that vary run.temperature and packing.porosity
+  // (sweep_of; as examples/paper/*.toml). A study without them (its own question: groups
+  // "reference" and "binder_x2" varying the binder) gets none of the paper's fits, and each note
+  // says so instead of "0 points".
   auto in_group = [&](const StudyRun& r, const char* g) {
-    const std::string rg = group_of(r);
-    return rg == g || rg.empty();
+    const std::string& sw = sweep.at(r.id);
+    return sw == g || sw == "both";
   };
   Json sweeps = Json::object();
   for (const char* g : {"temperature", "density"}) {
     sweeps[g] = int(std::count_if(runs.begin(), runs.end(), [&](const StudyRun& r) { return in_group(r, g); }));
   }
   out["paper_sweeps"] = sweeps;
+  Json run_sweeps = Json::object();
+  for (const auto& [id, sw] : sweep) run_sweeps[id] = sw;
+  out["run_sweeps"] = run_sweeps;
   const bool has_T = json_number(*json_find(sweeps, "temperature")) > 0;
   const bool has_rho = json_number(*json_find(sweeps, "density")) > 0;
-  const std::string no_T = "the study has no 'temperature' group (the paper's sweep over temperature)";
-  const std::string no_rho = "the study has no 'density' group (the paper's sweep over density)";
+  const std::string no_T = "the study has no group varying run.temperature (the paper's sweep over temperature)";
+  const std::string no_rho = "the study has no group varying packing.porosity (the paper's sweep over density)";
 
   // Eq. 13 on the temperature group (all seeds as individual points).
   std::vector<double> T, sc;

@@ -263,6 +263,7 @@ StudySpec read_study(const std::string& file) {
       for (long seed : seeds) {
         StudyRunSpec r;
         r.group = gname;
+        r.key = key;
         r.value_label = text;
         r.seed = seed;
         if (own_seed) {  // the seed the run really uses
@@ -360,8 +361,12 @@ std::string run_deck_text(const StudySpec& s, const StudyRunSpec& r) {
 static void write_study_files(const StudySpec& s, const fs::path& out) {
   Json runs = Json::array();
   for (const auto& r : s.runs)
-    runs.push_back(
-        {{"id", r.id}, {"dir", "runs/" + r.id}, {"group", r.group}, {"value", r.value_label}, {"seed", r.seed}});
+    runs.push_back({{"id", r.id},
+                    {"dir", "runs/" + r.id},
+                    {"group", r.group},
+                    {"key", r.key},
+                    {"value", r.value_label},
+                    {"seed", r.seed}});
   json_write_file((out / "study.json").string(),
                   Json{{"name", s.name}, {"deck", s.deck}, {"base", s.base_deck}, {"runs", runs}});
   if (s.analysis_text.empty())
@@ -446,6 +451,7 @@ RunResult execute_run(const StudySpec& s, const StudyOptions& opt, const Mpi& mp
     ro.study = {{"study", s.name},
                 {"id", r.id},
                 {"group", r.group},
+                {"key", r.key},
                 {"value", r.value_label},
                 {"temperature_K", scene.control.temperature},
                 {"density_g_cm3", rho / 1000.0},

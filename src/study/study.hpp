@@ -17,6 +17,7 @@ namespace pbx {
 struct StudyRunSpec {
   std::string id;
   std::string group;
+  std::string key;          // the deck key the group varies (the paper's sweeps: run.temperature, packing.porosity)
   std::string value_label;  // as written in the study deck
   long seed = 1;
   std::vector<std::pair<std::string, std::string>> set;  // dotted key -> TOML value text

@@ -335,6 +335,40 @@ TEST(StudyReport, QuickStudyReportReadsWholeInABrowser) {
   if (!HasFailure()) fs::remove_all(dir);
 }
 
+// The paper's sections follow what a group varies, not its name: the synthetic paper study with its
+// groups renamed ("T", "rho") but recorded as varying run.temperature and packing.porosity (as
+// `pbxmpm study` writes study.json since 2026-12-06) gets the temperature and density sections and
+// fits; with its group "temperature" recorded as varying a binder modulus it gets neither the
+// temperature sections nor Eq. 13 (a name alone decided until then, both ways).
+TEST(StudyReport, PaperSectionsFollowTheKeyAGroupVariesNotItsName) {
+  for (const bool renamed : {true, false}) {
+    const fs::path dir = make_study(renamed ? "keyed" : "misnamed", true);
+    std::string json = read_text(dir / "study.json");
+    const auto replace_all = [&](const std::string& from, const std::string& to) {
+      for (auto at = json.find(from); at != std::string::npos; at = json.find(from, at + to.size()))
+        json.replace(at, from.size(), to);
+    };
+    replace_all("\"group\": \"temperature\"",
+                renamed ? "\"group\": \"T\", \"key\": \"run.temperature\""
+                        : "\"group\": \"temperature\", \"key\": \"materials.f2314.shear_modulus\"");
+    replace_all("\"group\": \"density\"", "\"group\": \"rho\", \"key\": \"packing.porosity\"");
+    std::ofstream(dir / "study.json") << json;
+    build_report(dir.string(), kOptions);
+    const fs::path rep = dir / "report";
+    const Json fits = json_read_file((rep / "fits.json").string());
+    const Json& sweeps = *json_find(fits, "paper_sweeps");
+    EXPECT_EQ(json_number(*json_find(sweeps, "temperature")), renamed ? 5.0 : 0.0) << renamed;
+    EXPECT_EQ(json_number(*json_find(sweeps, "density")), 3.0) << renamed;
+    EXPECT_EQ(json_find(*json_find(fits, "eq13"), "nonlinear") != nullptr, renamed);
+    EXPECT_NE(json_find(*json_find(fits, "density_law"), "G"), nullptr);
+    EXPECT_EQ(fs::exists(rep / "table2_moduli_vs_temperature.csv"), renamed) << renamed;
+    EXPECT_TRUE(fs::exists(rep / "moduli_vs_density.csv")) << renamed;
+    const std::string text = read_text(rep / "report.md");
+    EXPECT_EQ(text.find("need a study group varying run.temperature") == std::string::npos, renamed) << text;
+    if (!HasFailure()) fs::remove_all(dir);
+  }
+}
+
 // A study of the user's own question (no 'temperature' or 'density' group) gets no empty paper
 // sections: no fitted-constants table, no "eq14: 0 points" line, no refit of the paper's Table 3,
 // no model-card line, no paper row beside the bounds, but one line saying why they are absent. The
@@ -368,7 +402,7 @@ TEST(StudyReport, OwnStudyGetsNoEmptyPaperSectionsAndBoundsPerCondition) {
   EXPECT_NE(text.find("This study's groups: reference, binder_x2"), std::string::npos) << text;
   // fits.json says why each paper fit is absent
   const Json fits = json_read_file((rep / "fits.json").string());
-  EXPECT_NE(json_string(*json_find(*json_find(fits, "eq14"), "note")).find("no 'temperature' group"),
+  EXPECT_NE(json_string(*json_find(*json_find(fits, "eq14"), "note")).find("no group varying run.temperature"),
             std::string::npos);
   EXPECT_EQ(json_find(*json_find(fits, "paper_table3_refit"), "nonlinear"), nullptr);
   // one row of bounds per condition, from its own first run

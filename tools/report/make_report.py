@@ -183,6 +183,21 @@ def run_group(r):
     return r["entry"].get("group") or get(r["a"], "study", "group", default="")
 
 
+def sweep_by(group):
+    """The paper's sweep by a group's name alone ('temperature', 'density'; 'none' for others; 'both'
+    without a group): for a fits.json written before 2026-12-06. Since then fits.json says each run's
+    and condition's sweep by the key its group varies (sweep_of in src/analysis/study_fits.cpp)."""
+    return group if group in ("temperature", "density") else ("both" if not group else "none")
+
+
+def run_sweep(r, fits):
+    return fits.get("run_sweeps", {}).get(r["id"]) or sweep_by(run_group(r))
+
+
+def cond_sweep(c):
+    return c["sweep"] if "sweep" in c else sweep_by(c.get("group", ""))
+
+
 def stat(cond, key, scale=1.0):
     m = get(cond, "stats", key, "mean")
     s = get(cond, "stats", key, "std")
@@ -433,11 +448,11 @@ def main():
             os.remove(old)
     rep = Report(out)
     conds = fits.get("conditions", [])
-    tconds = sorted([c for c in conds if c.get("group") in ("temperature", "")], key=lambda c: c["temperature_K"])
-    dconds = sorted([c for c in conds if c.get("group") in ("density", "")],
+    tconds = sorted([c for c in conds if cond_sweep(c) in ("temperature", "both")], key=lambda c: c["temperature_K"])
+    dconds = sorted([c for c in conds if cond_sweep(c) in ("density", "both")],
                     key=lambda c: get(c, "stats", "density_kg_m3", "mean"))
-    truns = [r for r in runs if run_group(r) in ("temperature", "")]
-    druns = [r for r in runs if run_group(r) in ("density", "")]
+    truns = [r for r in runs if run_sweep(r, fits) in ("temperature", "both")]
+    druns = [r for r in runs if run_sweep(r, fits) in ("density", "both")]
     T0 = get(fits, "eq13", "T0_K", default=293.0)
     groups_of_study = list(dict.fromkeys(c.get("group", "") or "(none)" for c in conds))
     nseeds = max([len(c.get("runs", [])) for c in conds] or [1])
@@ -472,7 +487,7 @@ def main():
              "(run checks below)."]
     p2this = {t["T_K"]: t for t in paper.get("table2", []) if t.get("source") == "this"}
     comp = [(c["temperature_K"], get(c, "stats", "E_Pa", "mean") / 1e9, p2this[c["temperature_K"]]["E_GPa"])
-            for c in tconds if c.get("temperature_K") in p2this and c.get("group") == "temperature"]
+            for c in tconds if c.get("temperature_K") in p2this and cond_sweep(c) == "temperature"]
     if comp:
         lines.append("E against the paper's Table 2 (ours / paper, GPa): " +
                      ", ".join(f"{T:.0f} K {o:.2f} / {pp:.2f} ({o / pp:.2f}x)" for T, o, pp in comp) + ".")
@@ -485,7 +500,7 @@ def main():
         ratios = []
         for c in tconds:
             T = c.get("temperature_K")
-            if c.get("group") != "temperature" or T not in p2this:
+            if cond_sweep(c) != "temperature" or T not in p2this:
                 continue
             parts = [f"{name} {get(c, 'stats', key, 'mean') / 1e9 / p2this[T][pk]:.2f}"
                      for name, key, pk in (("K", "K_Pa", "K_GPa"), ("G", "G_Pa", "G_GPa"))]
@@ -648,11 +663,11 @@ def main():
     absent = []
     if not truns:
         absent.append("the temperature sections (Tables 2-3, Fig. 2-6, Eq. 13-15, the refit of the paper's Table 3 "
-                      "and the model card) need a study group named 'temperature', the paper's sweep over temperature "
-                      "at porosity 0.08")
+                      "and the model card) need a study group varying run.temperature, the paper's sweep over "
+                      "temperature at porosity 0.08")
     if not druns:
-        absent.append("the density sections (Fig. 7-9, Eq. 19-22) need a group named 'density', the paper's sweep "
-                      "over porosity at 293 K")
+        absent.append("the density sections (Fig. 7-9, Eq. 19-22) need a group varying packing.porosity, the "
+                      "paper's sweep over porosity at 293 K")
     if absent:
         rep.p("Not in this report, as the study does not have the paper's conditions: " + "; ".join(absent) +
               f". This study's groups: {', '.join(groups_of_study)} (the paper's sweeps: examples/paper/quick.toml).")
