@@ -1,8 +1,9 @@
 #pragma once
 // The die of the paper (Fig. 1a): the specimen in [0, width] x [0, height] between three fixed
 // walls and a punch moving down at punch_velocity; walls and punch are rigid bodies (indices into
-// Scene::bodies). The die owns the punch timing, so the scene (end time, the punch's ramp) and the
-// study's phase moduli (study/run_phases.cpp, the loading time) read one formula.
+// Scene::bodies). In 3-D the cavity is [0, width] x [0, height] x [0, depth], with a front (z = 0)
+// and a back wall (z = depth) beside the left and right ones. The die owns the punch timing, so the scene (end time,
+// the punch's ramp) and the study's phase moduli (study/run_phases.cpp, the loading time) read one formula.
 
 namespace pbx {
 
@@ -11,9 +12,17 @@ inline constexpr double kDefaultRampStrain = 0.002;
 
 struct Die {
   double width = 0, height = 0;  // m (initial specimen box)
+  double depth = 0;              // m, 3-D only (0: a 2-D die, whose quantities are per metre of depth)
   double punch_velocity = 0;     // m/s, magnitude (the punch moves in -y)
   double ramp_strain = 0;        // strain over which the punch speed ramps up smoothly
   int left = -1, right = -1, bottom = -1, punch = -1;
+  int front = -1, back = -1;  // 3-D only
+
+  // The punch face's area (m^2; in 2-D m per metre of depth) and the cavity's volume (m^3; in 2-D
+  // m^2 per metre of depth) at punch displacement d (m).
+  double punch_area() const { return depth > 0 ? width * depth : width; }
+  double side_area(double d) const { return depth > 0 ? (height - d) * depth : height - d; }
+  double volume(double d = 0) const { return width * (height - d) * (depth > 0 ? depth : 1.0); }
 
   // The punch's speed rises as (1 - cos) over the ramp time, moving ramp_strain x height meanwhile
   // (at half its final speed on average), then stays at punch_velocity. s.

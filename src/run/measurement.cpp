@@ -61,12 +61,13 @@ Measurement Runner<D>::measure() {
     m.strain = d / die.height;
     m.punch_velocity = -punch.velocity_at(t)[1];
     m.punch_force = -m.body_force[die.punch][1];
-    m.punch_stress = m.punch_force / die.width;
+    m.punch_stress = m.punch_force / die.punch_area();
     m.wall_left = m.body_force[die.left][0];
     m.wall_right = -m.body_force[die.right][0];
     m.wall_bottom = m.body_force[die.bottom][1];
-    m.wall_stress = 0.5 * (m.wall_left + m.wall_right) / (die.height - d);
-    box = die.width * (die.height - d);
+    // the x walls' mean traction (in 3-D the front and back walls carry sigma_zz, as szz_Pa does)
+    m.wall_stress = 0.5 * (m.wall_left + m.wall_right) / die.side_area(d);
+    box = die.volume(d);
   }
   m.mean_stress = (1.0 / box) * s.sv;
   m.kinetic = s.ke;

@@ -43,12 +43,13 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   }
   Json specimen;  // null without a die
   if (sc_.die) {
-    const double box = sc_.die->width * sc_.die->height;
+    const double box = sc_.die->volume();
     specimen = {{"density_kg_m3", mass / box},
                 {"porosity", 1.0 - vol / box},
                 {"tmd_kg_m3", mass / vol},
                 {"width_m", sc_.die->width},
                 {"height_m", sc_.die->height}};
+    if (sc_.die->depth > 0) specimen["depth_m"] = sc_.die->depth;
     if (sc_.packing_stats) {  // the packed geometry's porosity, which the particles rasterise
       specimen["packing_porosity"] = sc_.packing_stats->porosity;
       specimen["colours"] = sc_.packing_stats->colours;

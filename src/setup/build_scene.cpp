@@ -198,15 +198,20 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   Vec<D> gmin, gmax;
   int wall_cells = 2;
   if (die_t) {
-    if constexpr (D != 2) die_t->fail("width", "the die is implemented for 2-D plane strain only");
     Die die;
     die.width = die_t->positive("width", dim::length);
     die.height = die_t->positive("height", dim::length);
+    if constexpr (D == 3)
+      die.depth = die_t->positive("depth", dim::length);
+    else if (die_t->has("depth"))
+      die_t->fail("depth", "applies to a 3-D die only (run.dimension = 3); a 2-D die is per metre of depth");
     die.punch_velocity = die_t->positive("punch_velocity", dim::velocity);
     die.ramp_strain = die_t->number("ramp_strain", kDefaultRampStrain);
     if (!(die.ramp_strain >= 0 && die.ramp_strain < 1)) die_t->fail("ramp_strain", "must lie in [0, 1)");
     wall_cells = int_in(*die_t, "wall_cells", 1, 1000, 2);
-    for (auto [key, len] : {std::pair{"width", die.width}, std::pair{"height", die.height}}) {
+    for (auto [key, len] :
+         {std::pair{"width", die.width}, std::pair{"height", die.height}, std::pair{"depth", die.depth}}) {
+      if (len == 0.0) continue;  // depth of a 2-D die
       const double cells = len / h;
       if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
         die_t->fail(key,
@@ -218,6 +223,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     gmin = Vec<D>::Constant(-pad);
     gmax[0] = die.width + pad;
     gmax[1] = die.height + pad;
+    if constexpr (D == 3) gmax[2] = die.depth + pad;
     sc.control.end_time = die.time_at_strain(sc.control.end_strain);
     if (die.ramp_strain >= sc.control.end_strain) run.fail("end_strain", "must exceed die.ramp_strain");
     sc.die = die;
@@ -429,14 +435,14 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       const double W = sc.die->width, H = sc.die->height, tol = 1e-9 * std::max(W, H);
       const Shape<D>& sh = gs[k].shape;
       for (int d = 0; d < D; ++d) {
-        const double top = d == 0 ? W : H;
+        const double top = d == 0 ? W : d == 1 ? H : sc.die->depth;
         if (sh.lo[d] < -tol || sh.hi[d] > top + tol)
           geoms[k].fail(geoms[k].string("shape", "rectangle") == "disk" ? "center"
                         : sh.lo[d] < -tol                               ? "min"
                                                                         : "max",
-                        fmt::format("reaches outside the die cavity (0 to {} m in x, 0 to {} m in y): "
+                        fmt::format("reaches outside the die cavity (0 to {} m in x, 0 to {} m in y{}): "
                                     "the walls and the punch would overlap it",
-                                    W, H));
+                                    W, H, D == 3 ? fmt::format(", 0 to {} m in z", sc.die->depth) : ""));
       }
     }
   if (sc.particles.size() == 0) root.fail("geometry", "the geometry entries produced no particles");
@@ -461,32 +467,45 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     sc.bodies.push_back(std::move(b));
     return static_cast<int>(sc.bodies.size()) - 1;
   };
-  if constexpr (D == 2) {
-    if (sc.die) {
-      Die& die = *sc.die;
-      const double wt = wall_cells * h, W = die.width, H = die.height;
-      const double mu = die_t->non_negative("wall_friction", dim::none, 0.0);
-      const double cutoff = die_t->non_negative("contact_cutoff", dim::none, 0.8);
-      auto wall = [&](const char* name, Vec<2> n, Vec<2> blo, Vec<2> bhi) {
-        RigidBody<2> b;
-        b.name = name;
-        b.normal = n;
-        b.friction = mu;
-        b.cutoff = cutoff;
-        return add_body(std::move(b), blo, bhi);
-      };
-      die.left = wall("wall_left", {1, 0}, {-wt, -wt}, {0, H + wt});
-      die.right = wall("wall_right", {-1, 0}, {W, -wt}, {W + wt, H + wt});
-      die.bottom = wall("wall_bottom", {0, 1}, {0, -wt}, {W, 0});
-      RigidBody<2> punch;
-      punch.name = "punch";
-      punch.normal = {0, -1};
-      punch.friction = mu;
-      punch.cutoff = cutoff;
-      punch.velocity = {0, -die.punch_velocity};
-      punch.ramp.t_ramp = die.ramp_time();
-      die.punch = add_body(std::move(punch), Vec<2>(0, H), Vec<2>(W, H + wt));
+  if (sc.die) {
+    // the walls (wall_cells thick) hold the cavity [0, W] x [0, H] (x [0, Dz] in 3-D) on every side
+    // but the top, where the punch sits; in 3-D the left and right walls span the whole depth and
+    // the front and back walls fit between them
+    Die& die = *sc.die;
+    const double wt = wall_cells * h, W = die.width, H = die.height, Dz = die.depth;
+    const double mu = die_t->non_negative("wall_friction", dim::none, 0.0);
+    const double cutoff = die_t->non_negative("contact_cutoff", dim::none, 0.8);
+    // a box from its x and y ranges (and, in 3-D, its z range)
+    const auto corner = [](double x, double y, double z) {
+      Vec<D> v;
+      v[0] = x, v[1] = y;
+      if constexpr (D == 3) v[2] = z;
+      return v;
+    };
+    const double z0 = -wt, z1 = Dz + wt;
+    auto wall = [&](const char* name, Vec<D> n, Vec<D> blo, Vec<D> bhi) {
+      RigidBody<D> b;
+      b.name = name;
+      b.normal = n;
+      b.friction = mu;
+      b.cutoff = cutoff;
+      return add_body(std::move(b), blo, bhi);
+    };
+    die.left = wall("wall_left", corner(1, 0, 0), corner(-wt, -wt, z0), corner(0, H + wt, z1));
+    die.right = wall("wall_right", corner(-1, 0, 0), corner(W, -wt, z0), corner(W + wt, H + wt, z1));
+    die.bottom = wall("wall_bottom", corner(0, 1, 0), corner(0, -wt, 0), corner(W, 0, Dz));
+    if constexpr (D == 3) {
+      die.front = wall("wall_front", corner(0, 0, 1), corner(0, -wt, -wt), corner(W, H + wt, 0));
+      die.back = wall("wall_back", corner(0, 0, -1), corner(0, -wt, Dz), corner(W, H + wt, Dz + wt));
     }
+    RigidBody<D> punch;
+    punch.name = "punch";
+    punch.normal = corner(0, -1, 0);
+    punch.friction = mu;
+    punch.cutoff = cutoff;
+    punch.velocity = corner(0, -die.punch_velocity, 0);
+    punch.ramp.t_ramp = die.ramp_time();
+    die.punch = add_body(std::move(punch), corner(0, H, 0), corner(W, H + wt, Dz));
   }
   for (auto& r : root.tables("rigid")) {
     RigidBody<D> b;
@@ -494,7 +513,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     // the name labels history columns and a velocity field: it must not be another field's
     if (std::find(sc.field_names.begin(), sc.field_names.end(), b.name) != sc.field_names.end())
       r.fail("name", fmt::format("'{}' is already the name of a field or body (die bodies: wall_left, wall_right, "
-                                 "wall_bottom, punch)",
+                                 "wall_bottom, punch; in 3-D also wall_front, wall_back)",
                                  b.name));
     const Shape<D> s = read_shape<D>(r);
     b.normal = read_vec<D>(r, "normal", dim::none);
@@ -612,6 +631,10 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     sc.grid.clamped.lo[0] = first;
     sc.grid.clamped.hi[0] = first + static_cast<int>(std::lround(sc.die->width / h));
     sc.grid.clamped.lo[1] = first;
+    if constexpr (D == 3) {
+      sc.grid.clamped.lo[2] = first;
+      sc.grid.clamped.hi[2] = first + static_cast<int>(std::lround(sc.die->depth / h));
+    }
   }
   check_fits(
       gt, "cell_size",
