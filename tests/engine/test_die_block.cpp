@@ -126,6 +126,27 @@ TEST(DieBlock, ThreeDimensionalDieGivesTheConstrainedModuli) {
   EXPECT_NEAR(ratio_sum / rows, 1.0, 0.005);
 }
 
+// die.depth belongs to a 3-D die: a 2-D deck that gives one is refused naming the key (a 2-D die is
+// per metre of depth), and a 3-D die without it is refused too.
+TEST(DieBlock, DepthIsRequiredInThreeDimensionsAndRefusedInTwo) {
+  std::string two = test::block_deck(100, 0.01);
+  two.insert(two.find("[die]\n") + 6, "depth = \"0.04 mm\"\n");
+  try {
+    test::scene_from(two);
+    ADD_FAILURE() << "a 2-D die with a depth was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("die.depth"), std::string::npos) << e.what();
+  }
+  std::string three = test::slurp(PBXMPM_EXAMPLES_DIR "/3d/die_block.toml");
+  three.erase(three.find("depth = "), three.find('\n', three.find("depth = ")) + 1 - three.find("depth = "));
+  try {
+    test::scene_from<3>(three);
+    ADD_FAILURE() << "a 3-D die without a depth was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("depth"), std::string::npos) << e.what();
+  }
+}
+
 // The run stops where the deck says: punch displacement / height = end_strain at the last row
 // (the ramp's distance is counted right), and the ramp ends at ramp_strain (0.004).
 TEST(DieBlock, RunEndsAtTheEndStrain) {
