@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "contact/law_binder_layer.hpp"
@@ -113,7 +114,10 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
                      ContactTally<D>* tally, bool after_update, double* layer_energy, const LayerSums<D>* layer_sums) {
   if (layer_energy) *layer_energy = 0.0;
   if (deformable < 2) return 0.0;
-  const bool layers = cm.has_layers() && layer_sums != nullptr;
+  // a binder_layer law without the sums its springs read would act as Coulomb without a word
+  if (cm.has_layers() && layer_sums == nullptr)
+    throw std::logic_error("field_contact: the contact matrix has binder_layer pairs but no layer sums were given");
+  const bool layers = cm.has_layers();
   const LayerSums<D>* sums_of_layers = layers ? layer_sums : nullptr;
   const long nn = grid.nodes();
   const double area = std::pow(grid.h, D - 1);  // contact area of a node (per metre of depth in 2-D)

@@ -28,8 +28,8 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // binder_layer pairs (contact/binder_layer.hpp) act only in the pass after the grid update
 // (after_update), where the impulse of their springs is applied; with layer_energy, the energy the
 // springs hold at the end of the step is written there, J (per metre of depth in 2-D). Their springs
-// read the layer sums of the step's P2G (layer_sums; without them every binder_layer pair acts as
-// Coulomb with the layer's friction).
+// read the layer sums of the step's P2G (layer_sums: required when the matrix has binder_layer pairs,
+// a std::logic_error otherwise).
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr,

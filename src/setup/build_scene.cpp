@@ -608,9 +608,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   bool die_only = true;  // every unilateral body is one of the die's
   for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
     const int ib = static_cast<int>(b);
-    const bool of_die =
-        sc.die && (ib == sc.die->left || ib == sc.die->right || ib == sc.die->bottom || ib == sc.die->punch);
-    if (sc.bodies[b].contact != RigidContact::stick && !of_die) die_only = false;
+    if (sc.bodies[b].contact != RigidContact::stick && !(sc.die && sc.die->owns(ib))) die_only = false;
   }
   const bool unilateral = std::any_of(sc.bodies.begin(), sc.bodies.end(),
                                       [](const RigidBody<D>& b) { return b.contact != RigidContact::stick; });

@@ -447,7 +447,7 @@ RunResult execute_run(const StudySpec& s, const StudyOptions& opt, const Mpi& mp
     ro.runs_after = mine - done;
     double mass = 0;
     for (double m : scene.particles.mass) mass += m;
-    const double rho = scene.die ? mass / (scene.die->width * scene.die->height) : 0.0;
+    const double rho = scene.die ? mass / scene.die->volume() : 0.0;
     ro.study = {{"study", s.name},
                 {"id", r.id},
                 {"group", r.group},

@@ -2,7 +2,8 @@
 // at their own quick resolution (20 um cells), run with the README's command (two MPI ranks of one
 // thread; one process where pbxmpm is built without MPI or mpirun is missing), and each report's
 // per-condition table read for the answer. Measured on this 2-core machine, idle (2026-12-06):
-// binder_stiffer 78 s, porosity to the decks' 3.5 % 3-6 min, to 1 % (the test's --set) about 2.5 min.
+// binder_stiffer 78 s, porosity to the decks' 3.5 % 3 min 26 s; under CTest 88 s and 67 s (porosity to
+// 1 %, the test's --set).
 // With the binder on every grain-to-grain load path (binder_layer) doubling its moduli must raise E
 // well above the reference; the earlier direct-contact model moved E by 1 % (the test would fail there).
 #include <cstdlib>
