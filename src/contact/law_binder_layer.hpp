@@ -47,7 +47,13 @@ template <int D>
 LayerImpulse<D> layer_impulse(const LayerLaw& L, const Side<D>& a, const Side<D>& r, const Vec<D>& xi, double dt,
                               bool after_update) {
   LayerImpulse<D> out;
-  const Vec<D> jump = field_displacement<D>(r.m, r.x, r.X, r.F, xi) - field_displacement<D>(a.m, a.x, a.X, a.F, xi);
+  // The displacements give the jump as a reference-configuration vector, X_a - X_r of the two
+  // material points now at the node; the film closes by its current length, F (X_a - X_r), with F
+  // the two sides' mean deformation gradient. Read in reference length the gap was 1/F too large
+  // (a compressed pair's springs 0.5-1 % too stiff in the layered column, measured against the
+  // particles' own gap), and a rotated pair mixed normal and tangential jumps by the rotation angle.
+  const Vec<D> jump = ((a.F + r.F) / (a.m + r.m)) *
+                      (field_displacement<D>(r.m, r.x, r.X, r.F, xi) - field_displacement<D>(a.m, a.x, a.X, a.F, xi));
   // Normal: from the contact normals the bonded particles carry (set at the start from the
   // direction of the touching grain, mapped with F^-T), a's towards r and r's towards a. Area: the
   // interface part of the volume gradients, 1/2 (g_a - g_r).n; the gradients alone also hold the
