@@ -16,6 +16,7 @@ set(PBXMPM_LABELLED_TESTS
   contact InclinedPlane.NearTheFrictionLimitOnlyTheSuddenLoadsVibrationMakesABlockCreep slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
+  contact ExtrudedSlab.ThreeDimensionalSlabOfAPackedSpecimenGivesThePlaneStrainCurves slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow
   app OwnStudy.BinderTwiceAsStiffIsAnsweredByTheConditionsTable slow,mpi

@@ -37,7 +37,11 @@ struct ContactMatrix {
   std::vector<PairLaw> pair;        // fields x fields, symmetric
   std::vector<int> field_material;  // material index of each field's particles (-1: mixed)
   ContactNormal normal = ContactNormal::dominant;
-  double position_cutoff = 0;    // displacement check, cells; 0 = off
+  double position_cutoff = 0;  // displacement check, cells; 0 = off
+  // An axis along which every body is uniform (a 2-D packing extruded through a 3-D die), -1 for
+  // none: every interface normal then lies across it, and the volume gradients' component along it
+  // (the field ending at the die's front and back walls, a cell or two away) is left out of normals.
+  int extruded_axis = -1;
   std::vector<LayerLaw> layers;  // the binder_layer laws of the [[contact.pair]] entries
   // the registered laws the deck names, each built from its table, and the names it gave them
   std::vector<std::shared_ptr<const ContactLawPlugin>> plugins;

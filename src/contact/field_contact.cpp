@@ -43,7 +43,8 @@ namespace {
 // Outward unit normal of field a against the rest r (grid.vgrad = sum V_p grad S_ip points out of a field); zero when
 // the gradients give no direction.
 template <int D>
-Vec<D> contact_normal(ContactNormal mode, const Vec<D>& ga, const Vec<D>& gr, bool a_wins_tie) {
+Vec<D> contact_normal(ContactNormal mode, Vec<D> ga, Vec<D> gr, bool a_wins_tie, int extruded_axis) {
+  if (extruded_axis >= 0) ga[extruded_axis] = gr[extruded_axis] = 0.0;
   Vec<D> n = Vec<D>::Zero();
   switch (mode) {
     case ContactNormal::dominant: {
@@ -89,7 +90,7 @@ template <int D>
     return WeldLaw{}.exchange(NodeContact<D>{A, R, stick, Vec<D>::Zero(), area, dt, reach, xi, layers, after_update});
   Vec<D> n = Vec<D>::Zero();
   if (law.law != ContactLaw::registered || cm.plugins[static_cast<std::size_t>(law.plugin)]->needs_normal()) {
-    n = contact_normal<D>(cm.normal, A.g, R.g, a_wins_tie);
+    n = contact_normal<D>(cm.normal, A.g, R.g, a_wins_tie, cm.extruded_axis);
     if (n.isZero()) return Exchange<D>{};
   }
   const NodeContact<D> c{A, R, stick, n, area, dt, reach, xi, layers, after_update};

@@ -264,11 +264,38 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   // ---- a packed specimen ([specimen] + [packing]) fills the die; [[geometry]] entries add bodies
   std::map<std::string, int> field_index;
   const int ppc = sc.settings.ppc;
+  bool extruded_specimen = false;  // a 2-D packing extruded through a 3-D die (grains_3d = "cylinders")
   sc.grid.stride[0] = 1;
   for (int d = 1; d < D; ++d) sc.grid.stride[d] = sc.grid.stride[d - 1] * sc.grid.n[d - 1];
   if (auto spec_t = root.optional_table("specimen")) {
-    if constexpr (D == 2) {
+    {
       if (!sc.die) spec_t->fail("grain_material", "a packed specimen needs a [die]");
+      // In 3-D the packing is 2-D: its disks are extruded through the die's depth (cylinders), the
+      // specimen a slab between the die's frictionless front and back walls, i.e. plane strain
+      // computed in 3-D. Sphere packings are not offered: random packings of rigid spheres stop
+      // near 64-80 % solids, short of the paper's 91-95 % without a compaction stage.
+      int layers = 1;
+      const double sub = h / ppc;
+      if constexpr (D == 3) {
+        const std::string how = spec_t->string("grains_3d", "");
+        if (how != "cylinders")
+          spec_t->fail("grains_3d", how.empty()
+                                        ? std::string("a 3-D packed specimen needs grains_3d = \"cylinders\" (the 2-D "
+                                                      "packing's disks extruded through die.depth; spheres are not "
+                                                      "offered)")
+                                        : fmt::format("must be \"cylinders\" (got \"{}\"): sphere packings are not "
+                                                      "offered (rigid spheres stop near 64-80 % solids, short of the "
+                                                      "paper's porosities)",
+                                                      how));
+        extruded_specimen = true;
+        layers = static_cast<int>(std::lround(sc.die->depth / sub));
+        if (layers < 1 || std::abs(layers * sub - sc.die->depth) > 1e-9 * sc.die->depth)
+          root.table("die").fail("depth", fmt::format("a packed specimen fills the depth with whole particle layers: "
+                                                      "give a multiple of cell_size / particles_per_cell ({} m)",
+                                                      sub));
+      } else if (spec_t->has("grains_3d")) {
+        spec_t->fail("grains_3d", "applies to 3-D runs only (run.dimension = 3)");
+      }
       auto material_of = [&](const char* key) {
         const std::string name = spec_t->string(key);
         auto it = mat_index.find(name);
@@ -330,7 +357,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
               "pbxmpm: note: the packer shrank {} grain{}, by up to {:.2g} % of the diameter, to remove the last "
               "overlaps (packing.json: grains_shrunk, max_relative_shrink)\n",
               packing.grains_shrunk, packing.grains_shrunk == 1 ? "" : "s", 100 * packing.max_shrink);
-      const double specimen_particles = sc.die->width * sc.die->height / std::pow(h / ppc, 2);
+      const double specimen_particles = layers * sc.die->width * sc.die->height / std::pow(sub, 2);
       check_fits(
           gt, "cell_size", specimen_particles * kParticleBytes,
           fmt::format("the specimen's {:.3g} particles at this cell size and particles_per_cell", specimen_particles));
@@ -347,17 +374,23 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
             !grain ? binder_field
                    : field_of(fields == "single" ? sc.material_names[grain_mat]
                                                  : fmt::format("{}_{}", sc.material_names[grain_mat], seed.colour));
-        sc.particles.add(seed.x, seed.volume, seed.volume * sc.materials[mat]->density(), mat, fld);
-        sc.grain_coat.push_back(grain && seed.grain >= 0 ? packing.grains[static_cast<std::size_t>(seed.grain)].coat
-                                                         : 0.0);
-        sc.grain_index.push_back(grain ? seed.grain : -1);
+        const double volume = D == 3 ? seed.volume * sub : seed.volume;
+        for (int k = 0; k < layers; ++k) {
+          Vec<D> x;
+          x[0] = seed.x[0], x[1] = seed.x[1];
+          if constexpr (D == 3) x[2] = (k + 0.5) * sub;
+          sc.particles.add(x, volume, volume * sc.materials[mat]->density(), mat, fld);
+          sc.grain_coat.push_back(grain && seed.grain >= 0 ? packing.grains[static_cast<std::size_t>(seed.grain)].coat
+                                                           : 0.0);
+          sc.grain_index.push_back(grain ? seed.grain : -1);
+        }
       }
       // The particles hold the packing to within their rasterisation: say when the specimen the
       // run computes misses the packing's porosity by more than the packer's default tolerance
       // (20 um cells: up to 0.0023 depending on where the grid falls).
       double solid = 0;
       for (std::size_t p = 0; p < sc.particles.size(); ++p) solid += sc.particles.volume0[p];
-      const double phi = 1.0 - solid / (packing.box[0] * packing.box[1]);
+      const double phi = 1.0 - solid / sc.die->volume();
       if (std::abs(phi - packing.stats.porosity) > 0.002)
         if (notes == SceneNotes::print)
           fmt::print(
@@ -365,8 +398,6 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
               "pbxmpm: note: the particle specimen's porosity {:.5f} differs from the packing's {:.5f} by {:+.5f} at "
               "this cell size (rasterisation); run.json's specimen.porosity and density are the particles'\n",
               phi, packing.stats.porosity, phi - packing.stats.porosity);
-    } else {
-      spec_t->fail("grain_material", "packed specimens are 2-D");
     }
   }
 
@@ -592,6 +623,7 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       fm = (fm == -2 || fm == sc.particles.material[p]) ? sc.particles.material[p] : -1;  // -1: mixed
     }
     sc.contact = read_contact_matrix(root.optional_table("contact"), field_material, sc.material_names);
+    if (extruded_specimen) sc.contact.extruded_axis = 2;
     setup_binder_layers(sc, root);
     std::vector<double>().swap(sc.grain_coat);  // only the layers' setup reads these
     std::vector<int>().swap(sc.grain_index);

@@ -128,6 +128,13 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
   };
   const CellBuckets<D> cells(sc.grid, P.x);
+  // q - p; across the extrusion only (a 2-D packing extruded through a 3-D die): every particle
+  // layer then sees the 2-D geometry, without neighbours in other layers tilting its normal
+  const auto apart = [&, axis = cm.extruded_axis](std::size_t q, std::size_t p) {
+    Vec<D> d = P.x[q] - P.x[p];
+    if (axis >= 0) d[axis] = 0.0;
+    return d;
+  };
   // touching particles, their contact normal (the mean direction to the touching particles of
   // the other side) and their layer's thickness (the two grains' coats with thickness = "coats")
   const auto pair_law = [&](int a, int b) -> const LayerLaw& {
@@ -156,7 +163,7 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     double nearest = std::numeric_limits<double>::infinity();
     long nearest_q = -1;
     cells.any_near(P.x[p], touch_cells, [&](std::uint32_t q) {
-      const Vec<D> d = P.x[q] - P.x[p];
+      const Vec<D> d = apart(q, p);
       if (!layer_pair(P.field[p], P.field[q])) return false;
       const LayerLaw& L = pair_law(P.field[p], P.field[q]);
       const double t = thickness(L, p, q), dist = d.norm();
@@ -179,10 +186,10 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       const LayerLaw& L = pair_law(P.field[p], P.field[q]);
       local_t[p] = thickness(L, p, q);
       extent[p] = L.film_extent;
-      const Vec<D> e = (P.x[q] - P.x[p]) / nearest;
+      const Vec<D> e = apart(q, p) / nearest;
       faces[p] = !cells.any_near(P.x[p], 2, [&](std::uint32_t r) {
         if (sc.grain_index[r] != sc.grain_index[p] || r == p) return false;
-        const Vec<D> d = P.x[r] - P.x[p];
+        const Vec<D> d = apart(r, p);
         const double along = d.dot(e);  // in front of p, in its column towards the other body
         return along > 0.5 * spacing && (d - along * e).norm() < 0.71 * spacing;
       });
@@ -229,7 +236,7 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
     double scale_sum = 0;
     int n = 0;
     cells.any_near(P.x[p], bond_cells, [&](std::uint32_t q) {
-      if (touching[q] && P.field[q] == P.field[p] && (P.x[q] - P.x[p]).norm() <= bond_r)
+      if (touching[q] && P.field[q] == P.field[p] && apart(q, p).norm() <= bond_r)
         sum += toward[q], scale_sum += inv_t[q], ++n;
       return false;
     });

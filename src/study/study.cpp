@@ -127,14 +127,20 @@ bool seeds_its_specimen(const toml::table& deck) {
   return spec && !spec->contains("packing_dir");
 }
 
-// A study's runs are 2-D: its analysis reads die runs, and the die and packed specimens are 2-D.
-Scene<2> build_study_scene(const Deck& deck, SceneNotes notes = SceneNotes::print) {
-  if (deck_dimension(deck) != 2)
-    throw InputError(
-        fmt::format("{}: run.dimension = {}: a study runs 2-D decks (the die and the packed specimen "
-                    "are 2-D); run a 3-D deck with pbxmpm run",
-                    deck.name(), deck_dimension(deck)));
-  return build_scene<2>(deck, notes);
+// Builds a run deck's scene in the deck's dimension (2-D plane strain, or 3-D: the die with a depth,
+// a packed specimen extruded through it) and hands it to f.
+template <class F>
+void with_study_scene(const Deck& deck, SceneNotes notes, F&& f) {
+  const int dim = deck_dimension(deck);
+  if (dim == 2) {
+    Scene<2> scene = build_scene<2>(deck, notes);
+    f(scene);
+  } else if (dim == 3) {
+    Scene<3> scene = build_scene<3>(deck, notes);
+    f(scene);
+  } else {
+    throw InputError(fmt::format("{}: run.dimension = {}: must be 2 or 3", deck.name(), dim));
+  }
 }
 
 bool finished(const fs::path& dir) {
@@ -395,7 +401,7 @@ int check_study(const StudySpec& s) {
   for (const auto& r : s.runs) {
     const std::string text = run_deck_text(s, r);
     Deck deck = run_deck(s, text, fs::path("runs") / r.id / "deck.toml");
-    Scene<2> scene = build_study_scene(deck);
+    with_study_scene(deck, SceneNotes::print, [](auto&) {});
     deck.check_unused();
   }
   return static_cast<int>(s.runs.size());
@@ -408,6 +414,66 @@ namespace {
 struct RunResult {
   bool failed = false, stop = false;
 };
+
+// The simulation of one run of the study, in the scene built from its deck: continued from its
+// checkpoint when it has a usable one, else from the start.
+template <int D>
+void simulate_run(const StudySpec& s, const StudyOptions& opt, const Mpi& mpi, const StudyRunSpec& r,
+                  const fs::path& dir, const std::string& text, Deck& deck, Scene<D>& scene, int done, int mine) {
+  deck.check_unused();
+  const fs::path ckpt = dir / "checkpoint.h5";
+  const bool restart = fs::exists(ckpt);  // its deck was checked above
+  RunOptions ro = run_options_for(deck, (dir / "deck.toml").string(), dir.string());
+  ro.threads = opt.threads;
+  ro.progress = opt.progress;
+  ro.checkpoint_every = opt.checkpoint_every;
+  ro.progress_label =
+      mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
+                   : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
+  ro.runs_after = mine - done;
+  double mass = 0;
+  for (double m : scene.particles.mass) mass += m;
+  const double rho = scene.die ? mass / scene.die->volume() : 0.0;
+  ro.study = {{"study", s.name},
+              {"id", r.id},
+              {"group", r.group},
+              {"key", r.key},
+              {"value", r.value_label},
+              {"temperature_K", scene.control.temperature},
+              {"density_g_cm3", rho / 1000.0},
+              {"seed", r.seed}};
+  // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
+  // it, history columns of another code version) is set aside and the run starts over.
+  bool resumed = false;
+  if (restart) {
+    Runner<D> runner(scene, ro, true);
+    CheckpointData ck;
+    try {
+      ck = read_checkpoint(ckpt.string());
+      runner.resume(ck);
+      resumed = true;
+    } catch (const InputError& e) {
+      const fs::path aside = dir / "checkpoint.unusable.h5";
+      fs::rename(ckpt, aside);
+      std::fprintf(stderr, "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
+                   r.id.c_str(), e.what(), aside.c_str());
+    }
+    if (resumed) {
+      std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s, segments: %s)\n",
+                   r.id.c_str(), ck.scalars.at("steps"), ck.scalars.at("t"),
+                   ck.code_versions.empty() ? "code version not recorded" : ck.code_versions.c_str());
+      runner.run();
+    }
+  }
+  if (!resumed) {
+    if (restart) {  // the failed resume may have changed the scene: build it again
+      Deck again = run_deck(s, text, dir / "deck.toml");
+      scene = build_scene<D>(again, SceneNotes::print);
+    }
+    Runner<D> runner(scene, ro);
+    runner.run();
+  }
+}
 
 // One run of the study: its deck written and built, the run (continued from its checkpoint when it
 // has a usable one, else from the start), its analysis. Errors are reported and returned, never
@@ -433,61 +499,9 @@ RunResult execute_run(const StudySpec& s, const StudyOptions& opt, const Mpi& mp
     const std::string text = run_deck_text(s, r);
     write_text_atomically(dir / "deck.toml", text);
     Deck deck = run_deck(s, text, dir / "deck.toml");
-    Scene<2> scene = build_study_scene(deck);
-    deck.check_unused();
+    with_study_scene(deck, SceneNotes::print,
+                     [&](auto& scene) { simulate_run(s, opt, mpi, r, dir, text, deck, scene, done, mine); });
     const fs::path ckpt = dir / "checkpoint.h5";
-    const bool restart = fs::exists(ckpt);  // its deck was checked above
-    RunOptions ro = run_options_for(deck, (dir / "deck.toml").string(), dir.string());
-    ro.threads = opt.threads;
-    ro.progress = opt.progress;
-    ro.checkpoint_every = opt.checkpoint_every;
-    ro.progress_label =
-        mpi.size > 1 ? fmt::format("run {}/{} of rank {}, {} runs in the study", done, mine, mpi.rank, s.runs.size())
-                     : fmt::format("run {}/{}, {} runs in the study", done, mine, s.runs.size());
-    ro.runs_after = mine - done;
-    double mass = 0;
-    for (double m : scene.particles.mass) mass += m;
-    const double rho = scene.die ? mass / scene.die->volume() : 0.0;
-    ro.study = {{"study", s.name},
-                {"id", r.id},
-                {"group", r.group},
-                {"key", r.key},
-                {"value", r.value_label},
-                {"temperature_K", scene.control.temperature},
-                {"density_g_cm3", rho / 1000.0},
-                {"seed", r.seed}};
-    // A checkpoint of this deck that cannot be continued (unreadable, a history.csv shorter than
-    // it, history columns of another code version) is set aside and the run starts over.
-    bool resumed = false;
-    if (restart) {
-      Runner<2> runner(scene, ro, true);
-      CheckpointData ck;
-      try {
-        ck = read_checkpoint(ckpt.string());
-        runner.resume(ck);
-        resumed = true;
-      } catch (const InputError& e) {
-        const fs::path aside = dir / "checkpoint.unusable.h5";
-        fs::rename(ckpt, aside);
-        std::fprintf(stderr,
-                     "pbxmpm study: %s cannot continue from its checkpoint (%s; moved to %s); starting it over\n",
-                     r.id.c_str(), e.what(), aside.c_str());
-      }
-      if (resumed) {
-        std::fprintf(stderr, "pbxmpm study: %s continues from its checkpoint (step %.0f, t = %.4g s, segments: %s)\n",
-                     r.id.c_str(), ck.scalars.at("steps"), ck.scalars.at("t"),
-                     ck.code_versions.empty() ? "code version not recorded" : ck.code_versions.c_str());
-        runner.run();
-      }
-    }
-    if (!resumed) {
-      if (restart) {  // the failed resume may have changed the scene: build it again
-        Deck again = run_deck(s, text, dir / "deck.toml");
-        scene = build_study_scene(again);
-      }
-      Runner<2> runner(scene, ro);
-      runner.run();
-    }
     fs::remove(ckpt);  // finished: the study never restarts it
     try {
       analyze_run_to_file(dir.string(), s.analysis);
@@ -561,7 +575,7 @@ int check_before_start(const StudySpec& s, const fs::path& out, const std::vecto
     try {
       const std::string text = run_deck_text(s, r);
       Deck deck = run_deck(s, text, out / "runs" / r.id / "deck.toml");
-      Scene<2> scene = build_study_scene(deck, SceneNotes::quiet);  // the run prints them when it starts
+      with_study_scene(deck, SceneNotes::quiet, [](auto&) {});  // the run prints the notes when it starts
       deck.check_unused();
       // an interrupted run continues from its checkpoint only if the study still gives its deck;
       // one whose header cannot be read is set aside when the run starts (below), not an error
