@@ -15,6 +15,7 @@ set(PBXMPM_LABELLED_TESTS
   contact InclinedPlane.UsfAndMuslSlideAtCoulombAccelerationOrStick slow
   contact InclinedPlane.NearTheFrictionLimitOnlyTheSuddenLoadsVibrationMakesABlockCreep slow
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
+  contact Hertz.ContactRadiusOfASphereOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
   contact ExtrudedSlab.ThreeDimensionalSlabOfAPackedSpecimenGivesThePlaneStrainCurves slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
