@@ -17,6 +17,7 @@ set(PBXMPM_LABELLED_TESTS
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact Hertz.ContactRadiusOfASphereOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
+  contact BinderLayer.BondedZoneDeeperThanTheClosureKeepsTheSpringAtFineCells slow
   contact ExtrudedSlab.ThreeDimensionalSlabOfAPackedSpecimenGivesThePlaneStrainCurves slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow

@@ -50,6 +50,7 @@ LayerLaw read_layer_law(const ParamTable& t) {
     law.bond_within_thickness = true;
   else
     law.bond_gap = t.non_negative("bond_gap", dim::length, 0.0);
+  if (t.has("bond_depth")) law.bond_depth = t.positive("bond_depth", dim::length);
   if (t.has("film")) {
     const std::string film = t.string("film");
     if (film != "uniform" && film != "integrated")

@@ -123,7 +123,14 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   double gap = 0;  // the search reach: the largest of any law
   for (const auto& l : cm.layers)
     gap = std::max(gap, search_of(l, l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness));
-  const double touch_r = 1.01 * spacing + gap, bond_r = 2.0 * h;
+  // the bonded zone's depth: a law's bond_depth, else two cells or its deepest closure (closure x
+  // its thickest layer) plus a cell, whichever is larger; the deepest of the laws
+  double bond_r = 0;
+  for (const auto& l : cm.layers) {
+    const double t_max = l.from_coats ? 2.0 * l.coat_scale * max_coat : l.thickness;
+    bond_r = std::max(bond_r, l.bond_depth > 0.0 ? l.bond_depth : std::max(2.0 * h, l.closure * t_max + h));
+  }
+  const double touch_r = 1.01 * spacing + gap;
   const auto layer_pair = [&](int a, int b) {
     return a != b && a < cm.fields && b < cm.fields && cm(a, b).law == ContactLaw::binder_layer;
   };
