@@ -33,7 +33,7 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
     sxx += x * x;
     sxy += x * y;
     const double n = double(k + 1);
-    if (int(k + 1) < opt.min_points) continue;
+    if (int(k + 1) < opt.min_points || x - strain[idx[0]] < opt.min_span) continue;
     const double den = n * sxx - sx * sx;
     if (den <= 0) continue;
     const double slope = (n * sxy - sx * sy) / den;
@@ -60,7 +60,8 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
   }
   // Never below the minimum window: a first failed test at the last point used to leave a
   // one-point window (moduli NaN) without the note below.
-  const std::size_t floor = static_cast<std::size_t>(opt.min_points - 1);
+  std::size_t floor = static_cast<std::size_t>(opt.min_points - 1);
+  while (floor + 1 < idx.size() && strain[idx[floor]] - strain[idx[0]] < opt.min_span) ++floor;
   best = std::max(best, floor);
   // The tangent test reacts only once several points lie past the knee. Trim them: fit the first
   // two thirds of the window, and end it before the first later point that falls below that line
@@ -85,7 +86,7 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
   w.lo = strain[idx[0]];
   w.hi = strain[idx[best]];
   w.points = int(best + 1);
-  if (int(best + 1) <= opt.min_points) {
+  if (best <= floor) {
     w.note = "the linear window is the minimum size: the curve bends (or is noisy) right after the start";
   }
   return w;

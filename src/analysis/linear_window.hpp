@@ -9,6 +9,7 @@ struct LinearWindowOptions {
   double start = 0;          // first strain of the window (the end of the punch ramp)
   double tolerance = 0.10;   // allowed drop of the end tangent below the window's slope
   int min_points = 8;        // the window never has fewer points
+  double min_span = 0;       // ... nor spans less strain (rows of any density give one window)
   double max_strain = 0.02;  // the window never extends beyond this strain
 };
 

@@ -158,6 +158,9 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
     t.fail("window_min_points", fmt::format("must be in [3, 1000000] (got {})", min_points));
   o.window_min_points = static_cast<int>(min_points);
   o.window_max_strain = t.in_range("window_max_strain", 1e-9, 1.0, o.window_max_strain);
+  o.window_min_span = t.in_range("window_min_span", 0.0, 1.0, o.window_min_span);
+  if (!(o.window_min_span < o.window_max_strain))
+    t.fail("window_min_span", fmt::format("must be below window_max_strain ({})", o.window_max_strain));
   o.strength_max_strain = t.in_range("strength_max_strain", 1e-9, 1.0, o.strength_max_strain);
   o.strength_plateau_from = t.in_range("strength_plateau_from", 0.0, 1.0, o.strength_plateau_from);
   if (!(o.strength_plateau_from < o.strength_max_strain))
@@ -189,6 +192,7 @@ void AnalysisOptions::validate() const {
     throw InputError(fmt::format("strength_plateau_from = {}: must be below the strength window end strain {}",
                                  strength_plateau_from, strength_max_strain));
   in(window_max_strain, 1e-9, 1.0, "window_max_strain");
+  in(window_min_span, 0.0, 1.0, "window_min_span");
   in(window_tolerance, 1e-6, 1.0, "window tolerance (window_tolerance, --window-tolerance)");
   in(ke_ie_limit, 0.0, 10.0, "KE/IE limit (ke_ie_limit, --ke-ie-limit)");
   in(overlap_limit, 0.0, 1.0, "overlap_limit");
@@ -206,6 +210,7 @@ Json AnalysisOptions::to_json() const {
   j["window_tolerance"] = window_tolerance;
   j["window_min_points"] = window_min_points;
   j["window_max_strain"] = window_max_strain;
+  j["window_min_span"] = window_min_span;
   j["strength_max_strain"] = strength_max_strain;
   j["strength_plateau_from"] = strength_plateau_from;
   j["plateau_window"] = plateau_lo ? json_numbers({*plateau_lo, *plateau_hi}) : Json("automatic");
@@ -269,6 +274,7 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     lw.tolerance = opt.window_tolerance;
     lw.min_points = opt.window_min_points;
     lw.max_strain = opt.window_max_strain;
+    lw.min_span = opt.window_min_span;
     w = find_linear_window(c.strain, opt.window_signal == "punch" ? c.punch_stress : c.vol_axial, lw);
   }
   if (!w.note.empty()) warnings.push_back(w.note);

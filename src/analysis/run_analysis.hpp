@@ -17,6 +17,7 @@ struct AnalysisOptions {
   std::string window_signal = "volume_average";
   double window_tolerance = 0.10;
   int window_min_points = 8;
+  double window_min_span = 0;  // strain: the automatic window spans at least this much (0: points only)
   double window_max_strain = 0.02;
   double strength_max_strain = 0.03;
   double strength_plateau_from = 0.005;  // the strength is the mean stress from here to strength_max_strain

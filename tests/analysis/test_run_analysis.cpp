@@ -253,6 +253,35 @@ TEST(LinearWindow, NoisyLinearCurveKeepsTheWholeWindowAndBilinearStopsAtTheKnee)
   EXPECT_LT(w.hi, 0.0115);
 }
 
+// The same bilinear curve (knee at 0.5 %) with a small ripple (period 0.1 %, amplitude 0.5 % of the
+// stress at the knee) and its rows ten times denser than the paper decks' (every 0.001 %): by
+// points alone (20, the decks' minimum) the window spans 0.019 % and ends on the ripple's first
+// down-slope; with window_min_span 0.0018 it reaches the knee as it does at 0.01 % rows.
+TEST(LinearWindow, MinimumSpanMakesTheWindowIndependentOfTheRowDensity) {
+  auto curve = [](double step, std::vector<double>& e, std::vector<double>& s) {
+    for (int i = 0; i * step <= 0.008 + 1e-12; ++i) {
+      const double x = i * step;
+      e.push_back(x);
+      s.push_back((x < 0.005 ? 4e9 * x : 2e7 + 4e8 * (x - 0.005)) + 1e5 * std::sin(2 * M_PI * x / 0.001));
+    }
+  };
+  LinearWindowOptions o;
+  o.max_strain = 0.005;
+  o.min_points = 20;
+  std::vector<double> e1, s1, e2, s2;
+  curve(1e-4, e1, s1);
+  curve(1e-5, e2, s2);
+  const LinearWindow sparse = find_linear_window(e1, s1, o), dense_points = find_linear_window(e2, s2, o);
+  o.min_span = 0.0018;
+  const LinearWindow dense = find_linear_window(e2, s2, o), sparse_span = find_linear_window(e1, s1, o);
+  std::printf("window end: 0.01 %% rows %.4f (with the span %.4f); 0.001 %% rows %.4f by points, %.4f with the span\n",
+              sparse.hi, sparse_span.hi, dense_points.hi, dense.hi);
+  EXPECT_GT(sparse.hi, 0.0045);
+  EXPECT_EQ(sparse_span.hi, sparse.hi);  // 20 points at 0.01 % already span 0.19 %
+  EXPECT_LT(dense_points.hi, 0.001);     // the ripple ends it
+  EXPECT_GT(dense.hi, 0.0045);
+}
+
 TEST(CsvTable, UnitSuffixes) {
   EXPECT_EQ(column_unit_factor("strength_MPa"), 1e6);
   EXPECT_EQ(column_unit_factor("stress_Pa"), 1.0);
@@ -285,6 +314,9 @@ TEST(RunAnalysis, AnalysisTableErrorsNameTheirKey) {
             std::string::npos)
       << deck_error("strength_plateau_from = 0.04\n");
   EXPECT_EQ(deck_error("strength_plateau_from = 0.01\n"), "");
+  EXPECT_NE(deck_error("window_min_span = 0.03\n").find("analysis.window_min_span: must be below window_max_strain"),
+            std::string::npos)
+      << deck_error("window_min_span = 0.03\n");
   AnalysisOptions o;
   o.window_tolerance = 5.0;  // --window-tolerance 5: the deck key allows at most 1
   EXPECT_NE(error_of([&] { o.validate(); }).find("must be in [1e-06, 1]"), std::string::npos)
