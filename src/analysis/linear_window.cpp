@@ -86,7 +86,12 @@ LinearWindow find_linear_window(const std::vector<double>& strain, const std::ve
   w.lo = strain[idx[0]];
   w.hi = strain[idx[best]];
   w.points = int(best + 1);
-  if (best <= floor) {
+  if (strain[idx.back()] - strain[idx[0]] < opt.min_span) {
+    w.note = fmt::format(
+        "the linear window takes every point from strain {} to {}, which span less than window_min_span ({}): "
+        "the run is too short, or settles too late, for a window of that span",
+        strain[idx[0]], strain[idx.back()], opt.min_span);
+  } else if (best <= floor) {
     w.note = "the linear window is the minimum size: the curve bends (or is noisy) right after the start";
   }
   return w;

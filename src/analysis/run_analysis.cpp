@@ -193,6 +193,9 @@ void AnalysisOptions::validate() const {
                                  strength_plateau_from, strength_max_strain));
   in(window_max_strain, 1e-9, 1.0, "window_max_strain");
   in(window_min_span, 0.0, 1.0, "window_min_span");
+  if (!(window_min_span < window_max_strain))
+    throw InputError(
+        fmt::format("window_min_span = {}: must be below window_max_strain ({})", window_min_span, window_max_strain));
   in(window_tolerance, 1e-6, 1.0, "window tolerance (window_tolerance, --window-tolerance)");
   in(ke_ie_limit, 0.0, 10.0, "KE/IE limit (ke_ie_limit, --ke-ie-limit)");
   in(overlap_limit, 0.0, 1.0, "overlap_limit");

@@ -288,6 +288,12 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
                                                       "paper's porosities)",
                                                       how));
         extruded_specimen = true;
+        // the contact normals of an extruded specimen leave z out (ContactMatrix::extruded_axis),
+        // which a body not uniform in z would not bear
+        if (root.has("geometry"))
+          root.fail("geometry",
+                    "a packed specimen extruded through the depth (specimen.grains_3d) takes no "
+                    "[[geometry]] bodies: its contact normals leave out z, which they are not uniform in");
         layers = static_cast<int>(std::lround(sc.die->depth / sub));
         if (layers < 1 || std::abs(layers * sub - sc.die->depth) > 1e-9 * sc.die->depth)
           root.table("die").fail("depth", fmt::format("a packed specimen fills the depth with whole particle layers: "

@@ -280,6 +280,11 @@ TEST(LinearWindow, MinimumSpanMakesTheWindowIndependentOfTheRowDensity) {
   EXPECT_EQ(sparse_span.hi, sparse.hi);  // 20 points at 0.01 % already span 0.19 %
   EXPECT_LT(dense_points.hi, 0.001);     // the ripple ends it
   EXPECT_GT(dense.hi, 0.0045);
+  // a span the points cannot reach takes them all, and says why
+  o.min_span = 0.0049;
+  o.start = 0.001;
+  const LinearWindow short_run = find_linear_window(e2, s2, o);
+  EXPECT_NE(short_run.note.find("span less than window_min_span"), std::string::npos) << short_run.note;
 }
 
 TEST(CsvTable, UnitSuffixes) {

@@ -82,7 +82,10 @@ values = [100.0, 200.0]
   std::vector<double> syy[2];
   for (int k = 0; k < 2; ++k) {
     const std::filesystem::path run = dir / "out" / "runs" / (k == 0 ? "modulus-100-s1" : "modulus-200-s1");
-    EXPECT_EQ(json_string(*json_find(json_read_file((run / "run.json").string()), "status")), "finished") << run;
+    const Json rj = json_read_file((run / "run.json").string());
+    const Json* status = json_find(rj, "status");
+    ASSERT_NE(status, nullptr) << run;
+    EXPECT_EQ(json_string(*status), "finished") << run;
     syy[k] = CsvTable::read((run / "history.csv").string()).numbers("syy_Pa");
   }
   ASSERT_EQ(syy[0].size(), syy[1].size());

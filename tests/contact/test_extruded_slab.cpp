@@ -116,6 +116,12 @@ TEST(ExtrudedSlab, GrainsIn3DAreCylindersOrRefused) {
   EXPECT_NE(error_of(none).find("grains_3d = \"cylinders\""), std::string::npos) << error_of(none);
   const std::string odd_depth = slab_deck(true, "cylinders", {{"die.depth", R"("12 um")"}});
   EXPECT_NE(error_of(odd_depth).find("die.depth"), std::string::npos) << error_of(odd_depth);
+  // [[geometry]] bodies beside it would have their normals flattened too
+  const std::string with_body = slab_deck(
+      true, "cylinders",
+      {{"geometry",
+        R"([{min = ["0 mm", "0.4 mm", "0 mm"], max = ["0.1 mm", "0.45 mm", "0.01 mm"], material = "tatb"}])"}});
+  EXPECT_NE(error_of(with_body).find("takes no [[geometry]] bodies"), std::string::npos) << error_of(with_body);
   // and in 2-D the key is refused
   const std::string two = slab_deck(false, "", {{"specimen.grains_3d", R"("cylinders")"}});
   try {

@@ -83,35 +83,13 @@ ramp_time = "1.2 us"
                      fmt::arg("pc", 0.8), fmt::arg("py1", kR + 2 * h));
 }
 
-// Keeps the particles below the diameter (y < R): rebuilds the particle arrays and the material
-// batches the way build_scene does.
-void keep_lower_half(Scene<2>& sc) {
-  Particles<2> kept;
-  const auto& P = sc.particles;
-  for (std::size_t p = 0; p < P.size(); ++p)
-    if (P.x[p].y() < kR) kept.add(P.x[p], P.volume0[p], P.mass[p], P.material[p], P.field[p]);
-  sc.particles = std::move(kept);
-  for (std::size_t m = 0; m < sc.materials.size(); ++m) {
-    auto& st = sc.material_state[m];
-    st.index.clear();
-    for (std::size_t p = 0; p < sc.particles.size(); ++p)
-      if (sc.particles.material[p] == static_cast<int>(m)) {
-        sc.particles.slot[p] = static_cast<std::uint32_t>(st.index.size());
-        st.index.push_back(static_cast<std::uint32_t>(p));
-      }
-    const int hs = sc.materials[m]->history_size();
-    st.history.assign(st.index.size() * static_cast<std::size_t>(hs), 0.0);
-    for (std::size_t k = 0; k < st.index.size(); ++k) sc.materials[m]->init_history(st.history.data() + k * hs);
-  }
-}
-
 struct Contact {
   double P, a, a_hertz, row_force;
 };
 
 std::vector<Contact> press(double h) {
   Scene<2> sc = test::scene_from(deck(h));
-  keep_lower_half(sc);
+  test::keep_particles(sc, [](const Vec<2>& x) { return x.y() < kR; });  // the lower half-disk
   Runner<2> runner(sc, test::quiet());
   const double Estar = 1.0 / ((1 - kNu * kNu) / kE + (1 - kNu * kNu) / kEflat);
   std::vector<Contact> out;

@@ -91,36 +91,14 @@ ramp_time = "1.2 us"
                      fmt::arg("py1", kR + 2 * h));
 }
 
-// Keeps the sphere's particles in the quarter below its equator (x > 0, y < R, z > 0): rebuilds the
-// particle arrays and the material batches the way build_scene does.
-void keep_quarter_hemisphere(Scene<3>& sc) {
-  Particles<3> kept;
-  const auto& P = sc.particles;
-  for (std::size_t p = 0; p < P.size(); ++p)
-    if (P.x[p].y() < kR && P.x[p].x() > 0 && P.x[p].z() > 0)
-      kept.add(P.x[p], P.volume0[p], P.mass[p], P.material[p], P.field[p]);
-  sc.particles = std::move(kept);
-  for (std::size_t m = 0; m < sc.materials.size(); ++m) {
-    auto& st = sc.material_state[m];
-    st.index.clear();
-    for (std::size_t p = 0; p < sc.particles.size(); ++p)
-      if (sc.particles.material[p] == static_cast<int>(m)) {
-        sc.particles.slot[p] = static_cast<std::uint32_t>(st.index.size());
-        st.index.push_back(static_cast<std::uint32_t>(p));
-      }
-    const int hs = sc.materials[m]->history_size();
-    st.history.assign(st.index.size() * static_cast<std::size_t>(hs), 0.0);
-    for (std::size_t k = 0; k < st.index.size(); ++k) sc.materials[m]->init_history(st.history.data() + k * hs);
-  }
-}
-
 struct Contact {
   double t, P, a, a_hertz;
 };
 
 std::vector<Contact> press(double h) {
   Scene<3> sc = test::scene_from<3>(deck(h));
-  keep_quarter_hemisphere(sc);
+  test::keep_particles(
+      sc, [](const Vec<3>& x) { return x.y() < kR && x.x() > 0 && x.z() > 0; });  // a quarter of the hemisphere
   Runner<3> runner(sc, test::quiet());
   const double Estar = 1.0 / ((1 - kNu * kNu) / kE + (1 - kNu * kNu) / kEflat);
   std::vector<Contact> out;
