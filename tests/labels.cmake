@@ -18,6 +18,7 @@ set(PBXMPM_LABELLED_TESTS
   contact Hertz.ContactRadiusOfASphereOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
   contact BinderLayer.BondedZoneDeeperThanTheClosureKeepsTheSpringAtFineCells slow
+  contact BinderLayer.AutomaticBondedZoneCoversTheLayersClosure slow
   contact ExtrudedSlab.ThreeDimensionalSlabOfAPackedSpecimenGivesThePlaneStrainCurves slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow
