@@ -120,12 +120,41 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
   j["limit"] = 1.0 + opt.energy_gain_limit;
   const bool flagged = worst > 1.0 + opt.energy_gain_limit;
   j["flagged"] = flagged;
+  // Where the energy went at the end of the run: each part of the dissipation over the punch work
+  // (a part above 1 alone is energy the discretisation made and the part then spent), and the
+  // fastest particle against the punch from the window's start (a local instability moves a few
+  // particles tens of times faster than the punch while the specimen creeps).
+  std::string where;
+  const std::size_t last = c.size() - 1;
+  if (!c.dissipation_parts.empty() && c.punch_work[last] > 0) {
+    Json parts = Json::object();
+    for (const auto& [name, v] : c.dissipation_parts) {
+      parts[name] = v[last] / c.punch_work[last];
+      where += fmt::format("{}{} {:.2g}", where.empty() ? "; at the end the dissipation is " : ", ", name,
+                           v[last] / c.punch_work[last]);
+    }
+    j["dissipated_over_punch_work_at_end"] = parts;
+    where += " x the punch work";
+  }
+  if (!c.max_particle_speed.empty()) {
+    double vmax = 0, vat = std::nan(""), vpunch = 0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      vpunch = std::max(vpunch, std::abs(c.punch_velocity[i]));
+      if (c.strain[i] >= from && c.max_particle_speed[i] > vmax) vmax = c.max_particle_speed[i], vat = c.strain[i];
+    }
+    j["max_particle_speed_m_s"] = vmax;
+    j["max_particle_speed_at_strain"] = std::isfinite(vat) ? Json(vat) : Json();
+    if (vpunch > 0) {
+      j["max_particle_speed_over_punch"] = vmax / vpunch;
+      where += fmt::format("; the fastest particle moves {:.3g} x the punch speed (at strain {:.4g})", vmax / vpunch, vat);
+    }
+  }
   if (flagged) {
     warnings.push_back(
         fmt::format("energy not conserved: kinetic energy plus stress work reach {:.3g} x the punch "
                     "work at strain {:.4g} (limit {:.3g}): the discretisation adds energy (a local "
-                    "instability or a non-conservative contact law)",
-                    worst, at, 1.0 + opt.energy_gain_limit));
+                    "instability or a non-conservative contact law){}",
+                    worst, at, 1.0 + opt.energy_gain_limit, where));
   }
   return j;
 }

@@ -24,6 +24,17 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
     c.kinetic = t.numbers("kinetic_J_per_m");
     c.internal = t.numbers("internal_J_per_m");
     c.punch_work = t.numbers("punch_work_J_per_m");
+    const std::string head = "dissipated_", tail = "_J_per_m";
+    for (const std::string& name : t.names())
+      if (name.size() > head.size() + tail.size() && name.rfind(head, 0) == 0 &&
+          name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
+        c.dissipation_parts.emplace_back(name.substr(head.size(), name.size() - head.size() - tail.size()),
+                                         t.numbers(name));
+    if (t.has("friction_work_J_per_m")) c.dissipation_parts.emplace_back("friction", t.numbers("friction_work_J_per_m"));
+  }
+  if (t.has("max_particle_speed_m_s") && t.has("punch_velocity_m_s")) {
+    c.max_particle_speed = t.numbers("max_particle_speed_m_s");
+    c.punch_velocity = t.numbers("punch_velocity_m_s");
   }
   for (std::size_t i = 0; i < t.rows(); ++i) {
     c.strain.push_back(eps[i]);

@@ -3,6 +3,7 @@
 // COMPRESSION POSITIVE (the volume-averaged Cauchy stresses of history.csv are tension positive
 // and are negated on reading), strain is the punch displacement over the initial height.
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pbx {
@@ -19,6 +20,11 @@ struct StressStrainCurve {
   std::vector<double> field_overlap;     // m^2 per m, overlapping domains of different fields (empty: not in the file)
   // J per m: kinetic energy, stress work, punch work (empty when the file has no energy columns)
   std::vector<double> kinetic, internal, punch_work;
+  // the parts of the dissipated energy (history columns dissipated_<material>_J_per_m and
+  // friction_work_J_per_m, written since 2026-12-06; empty in older files), J per m, and the fastest
+  // particle's speed, m/s (empty in older files)
+  std::vector<std::pair<std::string, std::vector<double>>> dissipation_parts;
+  std::vector<double> max_particle_speed, punch_velocity;
   std::size_t size() const { return strain.size(); }
 
   // Reads the columns above from a history.csv; other columns are ignored. Rows with a

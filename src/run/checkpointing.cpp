@@ -58,6 +58,7 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
                {"vmax", st.vmax},
                {"internal", st.internal},
                {"dissipated", st.dissipated},
+               {"friction_work", st.friction},
                {"steps", static_cast<double>(st.steps)},
                {"t_last_row", t_last_row_},
                {"punch_work", punch_work_},
@@ -93,6 +94,7 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
   std::vector<double> snaps;
   for (auto& [t, n] : snapshots_.written()) snaps.insert(snaps.end(), {t, static_cast<double>(n)});
   c.arrays["snapshots"] = snaps;
+  c.arrays["dissipated_by_material"] = st.dissipated_by_material;
   if (sc_.settings.integrator == Integrator::usf) {
     // the velocities of the last contact pass that the next step's velocity gradient takes
     // (Solver::contact_velocities): node-field index and velocity, D + 1 numbers each
@@ -164,7 +166,15 @@ void Runner<D>::resume(const CheckpointData& c) {
                                scalar("vmax"),
                                scalar("internal"),
                                scalar("dissipated"),
-                               static_cast<long>(scalar("steps"))};
+                               static_cast<long>(scalar("steps")),
+                               {},
+                               0.0};
+  // the dissipation's parts (absent from checkpoints written before 2026-12-06: the history's
+  // split columns then carry all earlier dissipation as friction)
+  if (c.arrays.count("dissipated_by_material")) {
+    st.dissipated_by_material = array("dissipated_by_material", sc_.materials.size());
+    st.friction = scalar("friction_work");
+  }
   solver_.restore(st);
   if (sc_.settings.integrator == Integrator::usf) {
     // absent from checkpoints written before 2026-12-05: the first step takes L from the

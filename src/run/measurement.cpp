@@ -2,6 +2,7 @@
 // interval, energies, stresses, momentum), its columns, and the check that names a non-finite particle.
 #include "run/runner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -25,10 +26,11 @@ Measurement Runner<D>::measure() {
     m.body_force[b].assign(f.data(), f.data() + D);
   }
   struct Sums {
-    double vol = 0, mass = 0, ke = 0;
+    double vol = 0, mass = 0, ke = 0, v2max = 0;
     Sym3 sv;
     Vec<D> p = Vec<D>::Zero();
     Sums& operator+=(const Sums& o) {
+      v2max = std::max(v2max, o.v2max);
       vol += o.vol;
       mass += o.mass;
       ke += o.ke;
@@ -43,7 +45,9 @@ Measurement Runner<D>::measure() {
     for (long p = b; p < e; ++p) {
       r.vol += P.volume[p];
       r.mass += P.mass[p];
-      r.ke += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
+      const double v2 = P.v[p].squaredNorm();
+      r.ke += 0.5 * fs * P.mass[p] * v2;
+      r.v2max = std::max(r.v2max, v2);
       r.sv += P.volume[p] * P.stress[p];
       r.p += fs * P.mass[p] * P.v[p];
     }
@@ -73,6 +77,9 @@ Measurement Runner<D>::measure() {
   m.kinetic = s.ke;
   m.internal = solver_.internal_energy();
   m.dissipated = solver_.dissipated_energy();
+  m.dissipated_parts = solver_.dissipated_by_material();
+  m.dissipated_parts.push_back(solver_.friction_work());
+  m.max_speed = std::sqrt(s.v2max);
   for (auto& b : sc_.bodies) punch_work_ += b.work;
   m.punch_work = punch_work_;
   m.ke_ie = m.internal > 0 ? m.kinetic / m.internal : 0.0;
@@ -149,6 +156,8 @@ std::vector<double> Runner<D>::row_values(const Measurement& m, int) {
     for (double x : f) v.push_back(x);
   for (double x : m.field_overlap) v.push_back(x);
   for (double x : m.layer_energy) v.push_back(x);
+  for (double x : m.dissipated_parts) v.push_back(x);
+  v.push_back(m.max_speed);
   return v;
 }
 

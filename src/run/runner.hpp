@@ -27,6 +27,10 @@ struct Measurement {
   double wall_left = 0, wall_right = 0, wall_bottom = 0, wall_stress = 0;
   Sym3 mean_stress;  // box volume average, tension positive
   double kinetic = 0, internal = 0, dissipated = 0, punch_work = 0, ke_ie = 0;
+  // the parts of `dissipated`: each material's plastic and viscous work (materials order), then the
+  // contact's friction work
+  std::vector<double> dissipated_parts;
+  double max_speed = 0;  // the fastest deformable particle, m/s (a local instability shows here first)
   double mass = 0;
   std::vector<double> momentum, com_velocity;   // D components
   std::vector<std::vector<double>> body_force;  // per rigid body: force ON the specimen (D)

@@ -45,6 +45,7 @@ void Solver<D>::particle_pass_impl() {
   scatter_one.contact_bases = masks_.contact_bases();
   // per chunk, summed in chunk order after the pass (thread-count independent)
   std::vector<MaterialStepResult> results(static_cast<std::size_t>(chunk_begin_.back()));
+  std::vector<double> chunk_dissipated(results.size() * nm, 0.0);  // [chunk][material]
   double vmax2 = 0, moved = 0;  // moved: the largest step of a particle along an axis, cells
   std::uint32_t bad_v = kNone, bad_s = kNone, left = kNone;
   long strays = 0;
@@ -95,8 +96,9 @@ void Solver<D>::particle_pass_impl() {
           ++count[static_cast<std::size_t>(P.material[p])];
         }
         if (worst == kNone) {
-          MaterialStepResult& res =
-              results[static_cast<std::size_t>(chunk_begin_[static_cast<std::size_t>(s)] + (c0 - b) / kPassChunk)];
+          const std::size_t chunk =
+              static_cast<std::size_t>(chunk_begin_[static_cast<std::size_t>(s)] + (c0 - b) / kPassChunk);
+          MaterialStepResult& res = results[chunk];
           for (std::size_t m = 0; m < nm; ++m) {
             if (count[m] == 0) continue;
             auto& state = sc_.material_state[m];
@@ -105,6 +107,7 @@ void Solver<D>::particle_pass_impl() {
             const MaterialStepResult r = sc_.materials[m]->update(batch);
             res.stress_work += r.stress_work;
             res.dissipated += r.dissipated;
+            chunk_dissipated[chunk * nm + m] += r.dissipated;
             res.max_wave_speed = std::max(res.max_wave_speed, r.max_wave_speed);
           }
           for (long p = c0; p < c1; ++p) {
@@ -148,9 +151,11 @@ void Solver<D>::particle_pass_impl() {
                                        sc_.material_names[P.material[bad_v]]));
   if (bad_s != kNone) stop_on_bad_stress(bad_s);
   double cmax = 0;
-  for (const auto& r : results) {
+  for (std::size_t c = 0; c < results.size(); ++c) {
+    const auto& r = results[c];
     internal_ += r.stress_work;
     dissipated_ += r.dissipated;
+    for (std::size_t m = 0; m < nm; ++m) dissipated_material_[m] += chunk_dissipated[c * nm + m];
     cmax = std::max(cmax, r.max_wave_speed);
   }
   cmax_ = cmax;

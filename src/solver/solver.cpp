@@ -29,6 +29,7 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
   track_gradients_ = sc_.deformable_fields > 1;
   contact_tally_ = ContactTally<D>(sc_.deformable_fields);
+  dissipated_material_.assign(sc_.materials.size(), 0.0);
 }
 
 template <int D>
@@ -39,6 +40,10 @@ void Solver<D>::restore(const State& s) {
   vmax_ = s.vmax;
   internal_ = s.internal;
   dissipated_ = s.dissipated;
+  // a checkpoint without the parts: the friction holds what the materials' parts do not
+  std::fill(dissipated_material_.begin(), dissipated_material_.end(), 0.0);
+  if (s.dissipated_by_material.size() == dissipated_material_.size()) dissipated_material_ = s.dissipated_by_material;
+  friction_ = s.dissipated_by_material.empty() ? s.dissipated : s.friction;
   steps_ = s.steps;
   for (auto& b : sc_.bodies) b.move_to(t_);
   left_grid_ = kNone;
@@ -306,7 +311,7 @@ void Solver<D>::contact(bool record, bool after_update) {
     const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
                                              record ? &contact_tally_ : nullptr, after_update, &energy,
                                              sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr);
-    if (record) dissipated_ += friction;
+    if (record) dissipated_ += friction, friction_ += friction;
     if (after_update) layer_energy_ = energy;
   }
   if (walls_last) rigid_stage(record);
@@ -359,6 +364,7 @@ void Solver<D>::rigid_stage(bool record) {
         sc_.bodies[b].impulse += r.impulse[b];
         sc_.bodies[b].work += r.work[b];
         dissipated_ += r.friction_work[b];
+        friction_ += r.friction_work[b];
       }
     }
   }
@@ -585,6 +591,7 @@ void Solver<D>::update_stress() {
       const auto& r = res[static_cast<std::size_t>(c)];
       internal_ += r.stress_work;
       dissipated_ += r.dissipated;
+      dissipated_material_[m] += r.dissipated;
       cmax = std::max(cmax, r.max_wave_speed);
     }
   }

@@ -41,6 +41,10 @@ class Solver {
   // the part of it the binder-layer springs hold at the end of the last step
   double layer_energy() const { return layer_energy_; }
   double dissipated_energy() const { return dissipated_; }                     // plastic/viscous + friction
+  // its parts: each material's plastic and viscous work (sc.materials order), and the friction work
+  // of the field contact and the rigid bodies, J (per metre of depth in 2D)
+  const std::vector<double>& dissipated_by_material() const { return dissipated_material_; }
+  double friction_work() const { return friction_; }
   long stray_count() const { return static_cast<long>(bins_.strays.size()); }  // particles outside their home strip
   double max_wave_speed() const { return cmax_; }                              // unscaled, m/s
   // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
@@ -53,8 +57,10 @@ class Solver {
   struct State {
     double t, dt, cmax, vmax, internal, dissipated;
     long steps;
+    std::vector<double> dissipated_by_material;  // empty: not known (a checkpoint written before 2026-12-06)
+    double friction = 0;
   };
-  State state() const { return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_}; }
+  State state() const { return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_, dissipated_material_, friction_}; }
   void restore(const State& s);  // also moves the rigid bodies and re-locates the particles
   // USF: the node-fields the last step's final contact pass acted on (grid.at(field, node)) and
   // their final velocities, which the next step's velocity gradient takes there (final_contact in
@@ -125,6 +131,8 @@ class Solver {
   long steps_ = 0;
   double cmax_ = 0, vmax_ = 0;
   double internal_ = 0, dissipated_ = 0;
+  std::vector<double> dissipated_material_;  // the parts of dissipated_ (dissipated_by_material())
+  double friction_ = 0;
   double layer_energy_ = 0;  // binder-layer springs at the end of the last step (a state, not a sum)
   double mass_eps_ = 0;
   double half_width_ = 0;         // particle half-width in cells (uGIMP)
