@@ -17,6 +17,7 @@ set(PBXMPM_LABELLED_TESTS
   contact Hertz.ContactHalfWidthOfACylinderOnAStiffFlat slow
   contact Hertz.ContactRadiusOfASphereOnAStiffFlat slow
   contact BinderLayer.DensestQuickRunStaysQuasiStaticAndBalancesItsForces slow
+  contact BinderLayer.SpringsHandedThroughTheParticlesKeepTheSpecimensEnergyBalance slow
   contact BinderLayer.BondedZoneDeeperThanTheClosureKeepsTheSpringAtFineCells slow
   contact BinderLayer.AutomaticBondedZoneCoversTheLayersClosure slow
   contact ExtrudedSlab.ThreeDimensionalSlabOfAPackedSpecimenGivesThePlaneStrainCurves slow

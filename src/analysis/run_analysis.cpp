@@ -146,7 +146,8 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
     j["max_particle_speed_at_strain"] = std::isfinite(vat) ? Json(vat) : Json();
     if (vpunch > 0) {
       j["max_particle_speed_over_punch"] = vmax / vpunch;
-      where += fmt::format("; the fastest particle moves {:.3g} x the punch speed (at strain {:.4g})", vmax / vpunch, vat);
+      where +=
+          fmt::format("; the fastest particle moves {:.3g} x the punch speed (at strain {:.4g})", vmax / vpunch, vat);
     }
   }
   if (flagged) {

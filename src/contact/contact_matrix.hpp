@@ -42,6 +42,10 @@ struct ContactMatrix {
   // none: every interface normal then lies across it, and the volume gradients' component along it
   // (the field ending at the die's front and back walls, a cell or two away) is left out of normals.
   int extruded_axis = -1;
+  // binder_layer springs hand their impulses to the momenta through the particles that define
+  // their jumps (the work-conjugate force, Solver::spring_impulses_through_particles); false: at
+  // the node alone (the code until 2026-12-06)
+  bool springs_through_particles = true;
   std::vector<LayerLaw> layers;  // the binder_layer laws of the [[contact.pair]] entries
   // the registered laws the deck names, each built from its table, and the names it gave them
   std::vector<std::shared_ptr<const ContactLawPlugin>> plugins;

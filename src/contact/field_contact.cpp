@@ -112,7 +112,8 @@ template <int D>
 
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
-                     ContactTally<D>* tally, bool after_update, double* layer_energy, const LayerSums<D>* layer_sums) {
+                     ContactTally<D>* tally, bool after_update, double* layer_energy, const LayerSums<D>* layer_sums,
+                     std::vector<Vec<D>>* spring_impulse) {
   if (layer_energy) *layer_energy = 0.0;
   if (deformable < 2) return 0.0;
   // a binder_layer law without the sums its springs read would act as Coulomb without a word
@@ -154,6 +155,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             if (grid.mass[grid.at(f, i)] > mass_eps) present.push_back(f);
           if (present.size() < 2) continue;
           const std::size_t np = present.size();
+          bool sprung = false;
 
           double mtot = 0;
           for (int a : present) mtot += grid.mass[grid.at(a, i)];
@@ -173,6 +175,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
             const Exchange<D> e = exchange(A, R, a, b);
             dp[0] = e.acts ? e.d : Vec<D>::Zero();
             dp[1] = e.acts ? Vec<D>(-e.d) : Vec<D>::Zero();
+            sprung = e.spring;
             if (e.acts) {
               for (int side = 0; side < 2; ++side) {
                 const int me = side == 0 ? a : b, other = side == 0 ? b : a;
@@ -204,6 +207,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
               }
               const Exchange<D> e = exchange(A, R, a, partner);
               dp[ia] = e.acts ? e.d : Vec<D>::Zero();
+              sprung = sprung || e.spring;
               if (e.acts) {
                 book(a, partner, dp[ia], e.dn_abs, e.dt_abs);
                 out.energy += 0.5 * e.energy;
@@ -214,9 +218,14 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
           // Exact momentum balance at the node (round-off and 3+ field nodes).
           Vec<D> residual = Vec<D>::Zero();
           for (std::size_t ia = 0; ia < np; ++ia) residual += dp[ia];
+          // A node where a spring acted hands all its impulses (the Coulomb ones and the balance
+          // too) through the particles: handing only the springs' there (the rest at the node) made
+          // more energy (quick 293 K run: (KE + IE)/W 1.11 / 1.43 at 0.4 / 0.8 % strain against 1.03 / 1.14).
+          std::vector<Vec<D>>* out_to = sprung && spring_impulse ? spring_impulse : nullptr;
           for (std::size_t ia = 0; ia < np; ++ia) {
             const long ka = grid.at(present[ia], i);
-            grid.mom[ka] += dp[ia] - (grid.mass[ka] / mtot) * residual;
+            (out_to ? (*out_to)[static_cast<std::size_t>(ka)] : grid.mom[ka]) +=
+                dp[ia] - (grid.mass[ka] / mtot) * residual;
           }
         }
         return out;
@@ -230,8 +239,8 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
 template void weld_fields<2>(Grid<2>&, int, double);
 template void weld_fields<3>(Grid<3>&, int, double);
 template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double, ContactTally<2>*, bool, double*,
-                                 const LayerSums<2>*);
+                                 const LayerSums<2>*, std::vector<Vec<2>>*);
 template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double, ContactTally<3>*, bool, double*,
-                                 const LayerSums<3>*);
+                                 const LayerSums<3>*, std::vector<Vec<3>>*);
 
 }  // namespace pbx

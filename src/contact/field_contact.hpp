@@ -30,9 +30,12 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // springs hold at the end of the step is written there, J (per metre of depth in 2-D). Their springs
 // read the layer sums of the step's P2G (layer_sums: required when the matrix has binder_layer pairs,
 // a std::logic_error otherwise).
+// With spring_impulse (one entry per node-field, zero on entry), the impulses of every node where a
+// binder-layer spring acted go there instead of into the momenta: the caller hands them through the
+// particles that define the springs' jumps (Solver::spring_impulses_through_particles).
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr,
-                     const LayerSums<D>* layer_sums = nullptr);
+                     const LayerSums<D>* layer_sums = nullptr, std::vector<Vec<D>>* spring_impulse = nullptr);
 
 }  // namespace pbx

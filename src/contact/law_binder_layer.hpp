@@ -134,6 +134,7 @@ struct BinderLayerLaw {
       if (J.state == LayerState::acts) {
         Exchange<D> e;
         e.acts = true;
+        e.spring = true;
         e.d = J.d;
         e.dn_abs = J.jn;
         e.dt_abs = J.jt;

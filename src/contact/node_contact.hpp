@@ -65,6 +65,7 @@ struct Exchange {
   double dn_abs = 0, dt_abs = 0;  // |normal|, |tangential| impulse booked to the pair
   double work = 0;                // this side's share of the dissipated work, J
   double energy = 0;              // the energy a spring holds at the end of the step (each side books half), J
+  bool spring = false;            // a binder-layer spring acted (field_contact may hand it through the particles)
 };
 
 // What a law gives against a rigid body at a node: the impulse on the field and the energy

@@ -82,6 +82,13 @@ ContactMatrix read_contact_matrix(const std::optional<DeckTable>& table, const s
     cm.normal = ContactNormal::own;
   else
     t.fail("normals", fmt::format("unknown normal option '{}' (dominant, average, own)", normal));
+  const std::string transfer = t.string("spring_transfer", std::string("particles"));
+  if (transfer == "particles")
+    cm.springs_through_particles = true;
+  else if (transfer == "node")
+    cm.springs_through_particles = false;
+  else
+    t.fail("spring_transfer", fmt::format("unknown option '{}' (particles, node)", transfer));
   cm.position_cutoff = t.number("position_check", 0.0);
   if (!(cm.position_cutoff >= 0.0)) t.fail("position_check", "must be >= 0 cells (0 switches the check off)");
   // Two touching bodies put their mass centres at a node about 2/3 of a cell apart (linear hat,

@@ -308,9 +308,12 @@ void Solver<D>::contact(bool record, bool after_update) {
   } else {
     if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
     double energy = 0;
-    const double friction = field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_,
-                                             record ? &contact_tally_ : nullptr, after_update, &energy,
-                                             sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr);
+    const bool smooth = sc_.contact.springs_through_particles && after_update && sc_.contact.has_layers();
+    if (smooth) spring_imp_.assign(static_cast<std::size_t>(sc_.deformable_fields) * sc_.grid.nodes(), Vec<D>::Zero());
+    const double friction = field_contact<D>(
+        sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_, record ? &contact_tally_ : nullptr, after_update,
+        &energy, sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &spring_imp_ : nullptr);
+    if (smooth) spring_impulses_through_particles();
     if (record) dissipated_ += friction, friction_ += friction;
     if (after_update) layer_energy_ = energy;
   }
@@ -350,6 +353,54 @@ void Solver<D>::final_contact() {
 template <int D>
 void Solver<D>::keep_contact_velocities() {
   for (auto& [k, v] : contact_vel_) v = sc_.grid.vel[k];
+}
+
+// A spring reads its jump from the particle sums of its two sides at the node, u_f(i) = sum_p
+// m_p S_ip u_p / m_f(i): a weighted mean A u of the displacements the nodes around it give those
+// particles. The force whose work is the change of its energy 1/2 k |A u|^2 is A^T k A u, so an
+// impulse J applied at the node alone (k A u) is a non-symmetric stiffness, which can feed a mode.
+// Handed back through the same weights instead, each particle of field f takes
+// dp_p = m_p sum_i S_ip J_f(i) / m_f(i), and the nodes receive sum_p S_jp dp_p: A^T J, the same
+// total impulse per field (sum_j S_jp = 1 and sum_p m_p S_ip = m_f(i)). Serial, in particle order
+// (thread-count independent).
+template <int D>
+void Solver<D>::spring_impulses_through_particles() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template spring_impulses_impl<decltype(K)::value>(); });
+}
+
+template <int D>
+template <Kernel K>
+void Solver<D>::spring_impulses_impl() {
+  auto& g = sc_.grid;
+  const auto& P = sc_.particles;
+  const double inv_h = 1.0 / g.h, fs = sc_.settings.mass_scaling;
+  const HalfWidth a(half_width_);
+  const long nn = g.nodes();
+  const long nd = static_cast<long>(sc_.deformable_fields) * nn;
+  // the nodes where some field has a spring impulse (exact zero test: impulses are small numbers)
+  spring_node_.assign(static_cast<std::size_t>(nn), 0);
+  bool any_node = false;
+  for (long k = 0; k < nd; ++k)
+    if (spring_imp_[static_cast<std::size_t>(k)] != Vec<D>::Zero())
+      spring_node_[static_cast<std::size_t>(k % nn)] = 1, any_node = true;
+  if (!any_node) return;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
+    const long off = static_cast<long>(P.field[p]) * nn;
+    Vec<D> take = Vec<D>::Zero();
+    bool any = false;
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
+      if (!spring_node_[static_cast<std::size_t>(i)]) return;
+      const long k = off + i;
+      const Vec<D>& J = spring_imp_[static_cast<std::size_t>(k)];
+      if (J == Vec<D>::Zero() || !(g.mass[k] > 0.0)) return;
+      take += (S / g.mass[k]) * J;
+      any = true;
+    });
+    if (!any) continue;
+    const Vec<D> dp = (P.mass[p] * fs) * take;
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { g.mom[off + i] += S * dp; });
+  }
 }
 
 template <int D>

@@ -40,7 +40,7 @@ class Solver {
   double internal_energy() const { return internal_ + layer_energy_; }
   // the part of it the binder-layer springs hold at the end of the last step
   double layer_energy() const { return layer_energy_; }
-  double dissipated_energy() const { return dissipated_; }                     // plastic/viscous + friction
+  double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
   // its parts: each material's plastic and viscous work (sc.materials order), and the friction work
   // of the field contact and the rigid bodies, J (per metre of depth in 2D)
   const std::vector<double>& dissipated_by_material() const { return dissipated_material_; }
@@ -60,7 +60,9 @@ class Solver {
     std::vector<double> dissipated_by_material;  // empty: not known (a checkpoint written before 2026-12-06)
     double friction = 0;
   };
-  State state() const { return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_, dissipated_material_, friction_}; }
+  State state() const {
+    return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_, dissipated_material_, friction_};
+  }
   void restore(const State& s);  // also moves the rigid bodies and re-locates the particles
   // USF: the node-fields the last step's final contact pass acted on (grid.at(field, node)) and
   // their final velocities, which the next step's velocity gradient takes there (final_contact in
@@ -95,6 +97,11 @@ class Solver {
   // The rigid bodies' part of the contact stage (src/contact/rigid_contact.hpp), recorded in the
   // bodies' impulses and work when `record`.
   void rigid_stage(bool record);
+  // The binder-layer springs' impulses of a contact pass (spring_imp_), handed to the momenta
+  // through the particles whose sums define the springs' jumps (see solver.cpp).
+  void spring_impulses_through_particles();
+  template <Kernel K>
+  void spring_impulses_impl();
   // Stops the run on particle p, whose stress update gave J <= 0 or a non-finite stress: the
   // message names the step, the particle, its material and place, and the material's reason.
   [[noreturn]] void stop_on_bad_stress(std::uint32_t p) const;
@@ -151,6 +158,8 @@ class Solver {
   // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with
   // their final velocities
   ContactVelocities contact_vel_;
+  std::vector<Vec<D>> spring_imp_;         // per node-field: the springs' impulses of the pass after the update
+  std::vector<std::uint8_t> spring_node_;  // per node: some field there has a spring impulse
 };
 
 }  // namespace pbx
