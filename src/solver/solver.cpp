@@ -361,8 +361,8 @@ void Solver<D>::keep_contact_velocities() {
 // impulse J applied at the node alone (k A u) is a non-symmetric stiffness, which can feed a mode.
 // Handed back through the same weights instead, each particle of field f takes
 // dp_p = m_p sum_i S_ip J_f(i) / m_f(i), and the nodes receive sum_p S_jp dp_p: A^T J, the same
-// total impulse per field (sum_j S_jp = 1 and sum_p m_p S_ip = m_f(i)). Serial, in particle order
-// (thread-count independent).
+// total impulse per field (sum_j S_jp = 1 and sum_p m_p S_ip = m_f(i)). In the scatter's parity
+// phases (thread-count independent).
 template <int D>
 void Solver<D>::spring_impulses_through_particles() {
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template spring_impulses_impl<decltype(K)::value>(); });
@@ -384,7 +384,7 @@ void Solver<D>::spring_impulses_impl() {
     if (spring_imp_[static_cast<std::size_t>(k)] != Vec<D>::Zero())
       spring_node_[static_cast<std::size_t>(k % nn)] = 1, any_node = true;
   if (!any_node) return;
-  for (std::size_t p = 0; p < P.size(); ++p) {
+  auto hand = [&](std::size_t p) {
     const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
     const long off = static_cast<long>(P.field[p]) * nn;
     Vec<D> take = Vec<D>::Zero();
@@ -397,10 +397,21 @@ void Solver<D>::spring_impulses_impl() {
       take += (S / g.mass[k]) * J;
       any = true;
     });
-    if (!any) continue;
+    if (!any) return;
     const Vec<D> dp = (P.mass[p] * fs) * take;
     for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { g.mom[off + i] += S * dp; });
+  };
+  // The scatter's parity phases and serial strays (grid/strip_bins.hpp): race-free, and the sum
+  // order at every node fixed by storage order and positions, whatever the thread count.
+  for (int phase = 0; phase < 2; ++phase) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long k = 0; k < bins_.phase_size(phase); ++k) {
+      const long s = bins_.phase_strip(phase, k);
+      for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
+        if (!bins_.stray[static_cast<std::size_t>(p)]) hand(static_cast<std::size_t>(p));
+    }
   }
+  for (const std::uint32_t p : bins_.strays) hand(p);
 }
 
 template <int D>
