@@ -133,7 +133,7 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
       where += fmt::format("{}{} {:.2g}", where.empty() ? "; at the end the dissipation is " : ", ", name,
                            v[last] / c.punch_work[last]);
     }
-    j["dissipated_over_punch_work_at_end"] = parts;
+    j["dissipated_over_punch_work_at_end"] = parts;  // materials by name, then "contact"
     where += " x the punch work";
   }
   if (!c.max_particle_speed.empty()) {
@@ -144,7 +144,7 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
     }
     j["max_particle_speed_m_s"] = vmax;
     j["max_particle_speed_at_strain"] = std::isfinite(vat) ? Json(vat) : Json();
-    if (vpunch > 0) {
+    if (vpunch > 0 && std::isfinite(vat)) {
       j["max_particle_speed_over_punch"] = vmax / vpunch;
       where +=
           fmt::format("; the fastest particle moves {:.3g} x the punch speed (at strain {:.4g})", vmax / vpunch, vat);

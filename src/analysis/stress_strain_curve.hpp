@@ -21,7 +21,7 @@ struct StressStrainCurve {
   // J per m: kinetic energy, stress work, punch work (empty when the file has no energy columns)
   std::vector<double> kinetic, internal, punch_work;
   // the parts of the dissipated energy (history columns dissipated_<material>_J_per_m and
-  // friction_work_J_per_m, written since 2026-12-06; empty in older files), J per m, and the fastest
+  // contact_work_J_per_m, written since 2026-12-06; empty in older files), J per m, and the fastest
   // particle's speed, m/s (empty in older files)
   std::vector<std::pair<std::string, std::vector<double>>> dissipation_parts;
   std::vector<double> max_particle_speed, punch_velocity;

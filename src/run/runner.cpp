@@ -124,9 +124,10 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
     }
   }
   if (sc_.contact.has_layers()) columns_.push_back("layer_energy_J" + per);
-  // the dissipation's parts (they sum to dissipated_J): where a run's energy goes
+  // the dissipation's parts (they sum to dissipated_J): where a run's energy goes; the contact's
+  // work is its friction plus the plastic work of flowing binder films
   for (const auto& name : sc_.material_names) columns_.push_back(fmt::format("dissipated_{}_J{}", name, per));
-  columns_.push_back("friction_work_J" + per);
+  columns_.push_back("contact_work_J" + per);
   columns_.push_back("max_particle_speed_m_s");
   if (!opt_.out_dir.empty()) {
     lock_ = OutputLock(opt_.out_dir, "run");

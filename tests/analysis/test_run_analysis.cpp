@@ -397,7 +397,7 @@ TEST(RunAnalysis, EnergyGainIsFlagged) {
 // Where the energy went (history columns since 2026-12-06): each part of the dissipation over the
 // punch work at the end of the run, and the fastest particle against the punch speed from the
 // window's start, in the energy balance and in its warning. Synthetic: a TATB plastic work of 2 W
-// and a friction work of 0.5 W at the end, particles at 0.6 m/s (2x the punch) but 12 m/s (40x) on
+// and a contact (friction) work of 0.5 W at the end, particles at 0.6 m/s (2x the punch) but 12 m/s (40x) on
 // one row after the ramp and 30 m/s (100x) on a row inside it (the check starts at the window).
 TEST(RunAnalysis, EnergyBalanceSaysWhereTheEnergyWent) {
   test::SyntheticRun s;
@@ -410,7 +410,7 @@ TEST(RunAnalysis, EnergyBalanceSaysWhereTheEnergyWent) {
     const auto& e = h.column("strain");
     std::ofstream out(dir / "history.csv");
     for (std::size_t k = 0; k < h.names().size(); ++k) out << (k ? "," : "") << h.names()[k];
-    out << ",dissipated_tatb_J_per_m,friction_work_J_per_m,max_particle_speed_m_s\n";
+    out << ",dissipated_tatb_J_per_m,contact_work_J_per_m,max_particle_speed_m_s\n";
     std::size_t late = 0;
     for (std::size_t i = 0; i < h.rows(); ++i) {
       for (std::size_t k = 0; k < h.names().size(); ++k)
@@ -425,14 +425,14 @@ TEST(RunAnalysis, EnergyBalanceSaysWhereTheEnergyWent) {
   ASSERT_FALSE(eb.is_null());
   const Json& parts = *json_find(eb, "dissipated_over_punch_work_at_end");
   EXPECT_NEAR(json_number(*json_find(parts, "tatb")), 2.0, 1e-12);
-  EXPECT_NEAR(json_number(*json_find(parts, "friction")), 0.5, 1e-12);
+  EXPECT_NEAR(json_number(*json_find(parts, "contact")), 0.5, 1e-12);
   EXPECT_NEAR(json_number(*json_find(eb, "max_particle_speed_over_punch")), 40.0, 1e-12);
   EXPECT_GT(json_number(*json_find(eb, "max_particle_speed_at_strain")), 0.004);
   bool said = false;
   for (const auto& w : json_array(*json_find(a, "warnings"))) {
     const std::string t = json_string(w);
     if (t.find("energy not conserved") == std::string::npos) continue;
-    said = t.find("tatb 2, friction 0.5 x the punch work") != std::string::npos &&
+    said = t.find("tatb 2, contact 0.5 x the punch work") != std::string::npos &&
            t.find("40 x the punch speed") != std::string::npos;
     EXPECT_TRUE(said) << t;
   }
