@@ -30,8 +30,7 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
           name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
         c.dissipation_parts.emplace_back(name.substr(head.size(), name.size() - head.size() - tail.size()),
                                          t.numbers(name));
-    if (t.has("contact_work_J_per_m"))
-      c.dissipation_parts.emplace_back("contact", t.numbers("contact_work_J_per_m"));
+    if (t.has("contact_work_J_per_m")) c.dissipation_parts.emplace_back("contact", t.numbers("contact_work_J_per_m"));
   }
   if (t.has("max_particle_speed_m_s") && t.has("punch_velocity_m_s")) {
     c.max_particle_speed = t.numbers("max_particle_speed_m_s");
