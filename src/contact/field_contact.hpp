@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 // Contact between deformable velocity fields at shared nodes (the paper's Eq. 6-7 in Nairn's
 // momentum form of Bardenhagen et al. 2000/2001). docs/theory/contact.md states the law exactly as
 // implemented; in short, at a node where field a meets the rest r of the fields:
@@ -30,12 +31,24 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // springs hold at the end of the step is written there, J (per metre of depth in 2-D). Their springs
 // read the layer sums of the step's P2G (layer_sums: required when the matrix has binder_layer pairs,
 // a std::logic_error otherwise).
-// With spring_impulse (one entry per node-field, zero on entry), the impulses of every node where a
-// binder-layer spring acted go there instead of into the momenta: the caller hands them through the
-// particles that define the springs' jumps (Solver::spring_impulses_through_particles).
+// With spring_impulses, the impulses of every node where a binder-layer spring acted go there
+// instead of into the momenta, and the node is flagged: the caller hands them through the particles
+// that define the springs' jumps (Solver::spring_impulses_through_particles).
+template <int D>
+struct SpringImpulses {
+  std::vector<Vec<D>> impulse;     // per node-field; zero on entry
+  std::vector<std::uint8_t> node;  // per node: 1 where a spring acted; zero on entry
+  // sized for the grid, all zero (the caller keeps them zero between passes)
+  void size_for(long node_fields, long nodes) {
+    if (static_cast<long>(impulse.size()) != node_fields)
+      impulse.assign(static_cast<std::size_t>(node_fields), Vec<D>::Zero());
+    if (static_cast<long>(node.size()) != nodes) node.assign(static_cast<std::size_t>(nodes), 0);
+  }
+};
+
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr,
-                     const LayerSums<D>* layer_sums = nullptr, std::vector<Vec<D>>* spring_impulse = nullptr);
+                     const LayerSums<D>* layer_sums = nullptr, SpringImpulses<D>* springs = nullptr);
 
 }  // namespace pbx

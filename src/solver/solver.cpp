@@ -309,10 +309,10 @@ void Solver<D>::contact(bool record, bool after_update) {
     if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
     double energy = 0;
     const bool smooth = sc_.contact.springs_through_particles && after_update && sc_.contact.has_layers();
-    if (smooth) spring_imp_.assign(static_cast<std::size_t>(sc_.deformable_fields) * sc_.grid.nodes(), Vec<D>::Zero());
+    if (smooth) springs_.size_for(static_cast<long>(sc_.deformable_fields) * sc_.grid.nodes(), sc_.grid.nodes());
     const double friction = field_contact<D>(
         sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_, record ? &contact_tally_ : nullptr, after_update,
-        &energy, sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &spring_imp_ : nullptr);
+        &energy, sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &springs_ : nullptr);
     if (smooth) spring_impulses_through_particles();
     if (record) dissipated_ += friction, friction_ += friction;
     if (after_update) layer_energy_ = energy;
@@ -376,23 +376,42 @@ void Solver<D>::spring_impulses_impl() {
   const double inv_h = 1.0 / g.h, fs = sc_.settings.mass_scaling;
   const HalfWidth a(half_width_);
   const long nn = g.nodes();
-  const long nd = static_cast<long>(sc_.deformable_fields) * nn;
-  // the nodes where some field has a spring impulse (exact zero test: impulses are small numbers)
-  spring_node_.assign(static_cast<std::size_t>(nn), 0);
-  bool any_node = false;
-  for (long k = 0; k < nd; ++k)
-    if (spring_imp_[static_cast<std::size_t>(k)] != Vec<D>::Zero())
-      spring_node_[static_cast<std::size_t>(k % nn)] = 1, any_node = true;
-  if (!any_node) return;
+  const std::vector<std::uint8_t>& spring_node = springs_.node;  // flagged by field_contact
+  const std::vector<Vec<D>>& imp = springs_.impulse;
+  if (std::find(spring_node.begin(), spring_node.end(), std::uint8_t{1}) == spring_node.end()) return;
+  // The nodes with a spring node in their 3^D block: a stencil (the 3^D nodes around its middle
+  // node, for every kernel) meets a spring node only if its middle node is one of these, so the other
+  // particles (a third on the quick specimen) leave after their stencil.
+  spring_near_.assign(static_cast<std::size_t>(nn), 0);
+  for (long i = 0; i < nn; ++i) {
+    if (!spring_node[static_cast<std::size_t>(i)]) continue;
+    if constexpr (D == 2) {
+      for (long dj = -g.stride[1]; dj <= g.stride[1]; dj += g.stride[1])
+        for (long di = -1; di <= 1; ++di) {
+          const long j = i + di + dj;  // a wrapped row only marks a node more (a particle visits its nodes)
+          if (j >= 0 && j < nn) spring_near_[static_cast<std::size_t>(j)] = 1;
+        }
+    } else {
+      for (long dk = -g.stride[2]; dk <= g.stride[2]; dk += g.stride[2])
+        for (long dj = -g.stride[1]; dj <= g.stride[1]; dj += g.stride[1])
+          for (long di = -1; di <= 1; ++di) {
+            const long j = i + di + dj + dk;
+            if (j >= 0 && j < nn) spring_near_[static_cast<std::size_t>(j)] = 1;
+          }
+    }
+  }
   auto hand = [&](std::size_t p) {
     const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
+    long middle = 0;
+    for (int d = 0; d < D; ++d) middle += (st.base[d] + 1) * g.stride[d];
+    if (!spring_near_[static_cast<std::size_t>(middle)]) return;
     const long off = static_cast<long>(P.field[p]) * nn;
     Vec<D> take = Vec<D>::Zero();
     bool any = false;
     for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) {
-      if (!spring_node_[static_cast<std::size_t>(i)]) return;
+      if (!spring_node[static_cast<std::size_t>(i)]) return;
       const long k = off + i;
-      const Vec<D>& J = spring_imp_[static_cast<std::size_t>(k)];
+      const Vec<D>& J = imp[static_cast<std::size_t>(k)];
       if (J == Vec<D>::Zero() || !(g.mass[k] > 0.0)) return;
       take += (S / g.mass[k]) * J;
       any = true;
@@ -412,6 +431,13 @@ void Solver<D>::spring_impulses_impl() {
     }
   }
   for (const std::uint32_t p : bins_.strays) hand(p);
+  // leave the buffers zero for the next pass (only the flagged nodes were written)
+  const long nf = sc_.deformable_fields;
+  for (long i = 0; i < nn; ++i) {
+    if (!springs_.node[static_cast<std::size_t>(i)]) continue;
+    springs_.node[static_cast<std::size_t>(i)] = 0;
+    for (long f = 0; f < nf; ++f) springs_.impulse[static_cast<std::size_t>(f * nn + i)] = Vec<D>::Zero();
+  }
 }
 
 template <int D>

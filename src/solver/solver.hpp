@@ -11,6 +11,7 @@
 
 #include "bodies/body_presence.hpp"
 #include "contact/contact_tally.hpp"
+#include "contact/field_contact.hpp"
 #include "contact/scatter_masks.hpp"
 #include "grid/strip_bins.hpp"
 #include "solver/scene.hpp"
@@ -158,8 +159,8 @@ class Solver {
   // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with
   // their final velocities
   ContactVelocities contact_vel_;
-  std::vector<Vec<D>> spring_imp_;         // per node-field: the springs' impulses of the pass after the update
-  std::vector<std::uint8_t> spring_node_;  // per node: some field there has a spring impulse
+  SpringImpulses<D> springs_;              // the springs' impulses of the pass after the update, and their nodes
+  std::vector<std::uint8_t> spring_near_;  // per node: a spring node within its 3^D block
 };
 
 }  // namespace pbx
