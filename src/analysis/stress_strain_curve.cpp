@@ -32,10 +32,9 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
                                          t.numbers(name));
     if (t.has("contact_work_J_per_m")) c.dissipation_parts.emplace_back("contact", t.numbers("contact_work_J_per_m"));
   }
-  if (t.has("max_particle_speed_m_s") && t.has("punch_velocity_m_s")) {
-    c.max_particle_speed = t.numbers("max_particle_speed_m_s");
-    c.punch_velocity = t.numbers("punch_velocity_m_s");
-  }
+  if (t.has("max_particle_speed_m_s")) c.max_particle_speed = t.numbers("max_particle_speed_m_s");
+  if (t.has("punch_velocity_m_s")) c.punch_velocity = t.numbers("punch_velocity_m_s");
+  if (t.has("mass_kg_per_m")) c.mass = t.numbers("mass_kg_per_m");
   for (std::size_t i = 0; i < t.rows(); ++i) {
     c.strain.push_back(eps[i]);
     c.punch_stress.push_back(punch[i]);
@@ -48,6 +47,20 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
     if (overlap) c.field_overlap.push_back((*overlap)[i]);
   }
   return c;
+}
+
+std::vector<double> ke_ie_beyond_affine(const StressStrainCurve& c, double mass_scaling) {
+  const std::size_t n = c.size();
+  if (c.kinetic.size() != n || c.internal.size() != n || c.mass.size() != n || c.punch_velocity.size() != n ||
+      !(mass_scaling > 0.0) || !std::isfinite(mass_scaling))
+    return c.ke_ie;
+  std::vector<double> q(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = c.punch_velocity[i];
+    const double affine = mass_scaling * c.mass[i] * v * v / 6.0;
+    q[i] = c.internal[i] > 0.0 ? std::max(0.0, c.kinetic[i] - affine) / c.internal[i] : 0.0;
+  }
+  return q;
 }
 
 std::vector<std::size_t> points_in(const std::vector<double>& strain, double lo, double hi) {

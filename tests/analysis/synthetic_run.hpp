@@ -34,6 +34,9 @@ struct SyntheticRun {
   double overlap_share = -1;
   // KE/IE: 0.3 inside the ramp, then ke_ie_bump up to strain ke_ie_bump_until, then 0.01
   double ke_ie_bump = 0.01, ke_ie_bump_until = 0;
+  // > 0: a mass_kg_per_m column of this (unscaled) mass, and the kinetic energy of the affine motion
+  // behind the punch, f m v^2 / 6 (f = run.json's mass scaling, 100), added to the kinetic energy
+  double affine_mass = 0;
   // Energies: punch work W = integral of the punch stress over the box area's compaction, stress
   // work 0.9 W (+ energy_gain W from strain energy_gain_from on), kinetic energy ke_ie x stress work.
   double energy_gain = 0, energy_gain_from = 0.003;
@@ -53,7 +56,7 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
   h << "step,t_s,dt_s,strain,punch_velocity_m_s,punch_force_N_per_m,punch_stress_Pa,wall_left_force_N_per_m,"
        "wall_right_force_N_per_m,wall_bottom_force_N_per_m,wall_stress_Pa,sxx_Pa,syy_Pa,szz_Pa,sxy_Pa,"
        "kinetic_J_per_m,internal_J_per_m,dissipated_J_per_m,punch_work_J_per_m,ke_ie,extra_contact_N_per_m"
-    << (s.overlap_share >= 0 ? ",field_overlap_m2_per_m\n" : "\n");
+    << (s.overlap_share >= 0 ? ",field_overlap_m2_per_m" : "") << (s.affine_mass > 0 ? ",mass_kg_per_m\n" : "\n");
   double work = 0, e_prev = 0, sa_prev = 0;
   for (int i = 0; i < s.rows; ++i) {
     const double e = s.max_strain * i / (s.rows - 1);
@@ -63,14 +66,20 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
     work += 0.5 * (sa + sa_prev) * (e - e_prev) * 1e-3 * 1.2e-3;  // J/m: box 1 x 1.2 mm
     e_prev = e, sa_prev = sa;
     const double ie = (0.9 + (e >= s.energy_gain_from ? s.energy_gain : 0.0)) * work;
+    const double ke = ke_ie * ie + (s.affine_mass > 0 ? 100.0 * s.affine_mass * 0.3 * 0.3 / 6.0 : 0.0);
     h << fmt::format(
         "{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,{:.9g},{:.9g},0,{:."
         "9g},{},0\n",
         i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl, -sl * (1 + s.vol_bias),
-        -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke_ie * ie, ie, work, ke_ie);
+        -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke, ie, work,
+        s.affine_mass > 0 && ie > 0 ? ke / ie : ke_ie);
     if (s.overlap_share >= 0) {
       h.seekp(-1, std::ios_base::cur);  // replace the newline
       h << fmt::format(",{:.12g}\n", 1e-12 + s.overlap_share * e * 1e-3 * 1.2e-3);
+    }
+    if (s.affine_mass > 0) {
+      h.seekp(-1, std::ios_base::cur);
+      h << fmt::format(",{:.12g}\n", s.affine_mass);
     }
   }
   std::ofstream r(dir / "run.json");
