@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -197,6 +199,7 @@ AnalysisOptions AnalysisOptions::from_deck(const DeckTable& t) {
     t.fail("strength_plateau_from", fmt::format("must be below strength_max_strain ({})", o.strength_max_strain));
   o.ke_ie_limit = t.in_range("ke_ie_limit", 0.0, 10.0, o.ke_ie_limit);
   o.overlap_limit = t.in_range("overlap_limit", 0.0, 1.0, o.overlap_limit);
+  o.window_spread_limit = t.in_range("window_spread_limit", 0.0, 10.0, o.window_spread_limit);
   o.energy_gain_limit = t.in_range("energy_gain_limit", 0.0, 10.0, o.energy_gain_limit);
   o.validate();  // every check above names its key; this one only repeats them
   return o;
@@ -229,6 +232,7 @@ void AnalysisOptions::validate() const {
   in(window_tolerance, 1e-6, 1.0, "window tolerance (window_tolerance, --window-tolerance)");
   in(ke_ie_limit, 0.0, 10.0, "KE/IE limit (ke_ie_limit, --ke-ie-limit)");
   in(overlap_limit, 0.0, 1.0, "overlap_limit");
+  in(window_spread_limit, 0.0, 10.0, "window_spread_limit");
   in(energy_gain_limit, 0.0, 10.0, "energy_gain_limit");
   if (window_min_points < 3) throw InputError(fmt::format("window_min_points = {}: must be >= 3", window_min_points));
   if (window_signal != "volume_average" && window_signal != "punch") {
@@ -249,7 +253,58 @@ Json AnalysisOptions::to_json() const {
   j["plateau_window"] = plateau_lo ? json_numbers({*plateau_lo, *plateau_hi}) : Json("automatic");
   j["ke_ie_limit"] = ke_ie_limit;
   j["overlap_limit"] = overlap_limit;
+  j["window_spread_limit"] = window_spread_limit;
   j["energy_gain_limit"] = energy_gain_limit;
+  return j;
+}
+
+// How much K, G and E depend on the window: refitted over its first and its last three quarters
+// (each with at least 3 points), half the range of the three fits (with the window's own) over the
+// window's value. A ringing reaction read over a short window moves the moduli with single rows:
+// the quick specimen's 0.2 % windows of the earlier start read E 3.12 GPa over 0.235-0.469 % strain
+// and 2.66 over 0.25-0.50 % (docs/theory/analysis.md §3).
+static Json window_spread_json(const StressStrainCurve& c, const LinearWindow& w, const ConfinedModuli& mod,
+                               const AnalysisOptions& opt, std::vector<std::string>& warnings) {
+  Json j = Json::object();
+  const double span = w.hi - w.lo;
+  const double cut = w.lo + 0.75 * span, from = w.lo + 0.25 * span;
+  if (!(span > 0) || points_in(c.strain, w.lo, cut).size() < 3 || points_in(c.strain, from, w.hi).size() < 3) {
+    j["relative"] = Json();
+    j["note"] = "window too short for sub-windows";
+    return j;
+  }
+  const ConfinedModuli a = confined_moduli(c, w.lo, cut), b = confined_moduli(c, from, w.hi);
+  double worst = 0;
+  std::string worst_name;
+  for (const auto& [name, v0, v1, v2] : {std::tuple<const char*, double, double, double>{"K", mod.K, a.K, b.K},
+                                         {"G", mod.G, a.G, b.G},
+                                         {"E", mod.E, a.E, b.E}}) {
+    const double lo = std::min({v0, v1, v2}), hi = std::max({v0, v1, v2});
+    Json r = Json::array();
+    r.push_back(lo);
+    r.push_back(hi);
+    j[std::string(name) + "_range_Pa"] = r;
+    const double rel = v0 != 0 ? 0.5 * (hi - lo) / std::fabs(v0) : std::nan("");
+    if (!(rel <= worst)) worst = rel, worst_name = name;
+  }
+  Json sub = Json::array();
+  for (const auto& [x0, x1] : {std::pair{w.lo, cut}, std::pair{from, w.hi}}) {
+    Json r = Json::array();
+    r.push_back(x0);
+    r.push_back(x1);
+    sub.push_back(r);
+  }
+  j["sub_windows"] = sub;
+  j["relative"] = worst;
+  j["limit"] = opt.window_spread_limit;
+  const bool flagged = !(worst <= opt.window_spread_limit);
+  j["flagged"] = flagged;
+  if (flagged) {
+    warnings.push_back(fmt::format(
+        "the moduli depend on the window: {} moves by +-{:.3g} % between the linear window and its first or "
+        "last three quarters (limit {:.3g} %): the curve rings or bends inside the window",
+        worst_name, 100 * worst, 100 * opt.window_spread_limit));
+  }
   return j;
 }
 
@@ -363,6 +418,7 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
   win["start_after_ke_ie_settled"] = std::isfinite(settled_start);
   j["linear_window"] = win;
   j["moduli"] = mod.to_json();
+  j["moduli_window_spread"] = window_spread_json(c, w, mod, opt, warnings);
   j["moduli_volume_average"] = mod_vol.to_json();
   j["strength"] = s_punch.to_json();
   j["strength_volume_average"] = s_vol.to_json();

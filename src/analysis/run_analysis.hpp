@@ -27,6 +27,10 @@ struct AnalysisOptions {
   // particle domains of different fields before the run is flagged (history column
   // field_overlap_m2_per_m; docs/theory/analysis.md).
   double overlap_limit = 0.25;
+  // Largest accepted spread of K, G or E over the linear window's sub-windows (its first and its
+  // last three quarters), half the range over the window's value: beyond it the moduli follow
+  // single rows of a ringing curve and the run is warned about (docs/theory/analysis.md §3).
+  double window_spread_limit = 0.10;
   // Largest accepted (KE + stress work)/punch work - 1 from the linear window's start: a run can
   // only lose energy (friction, contact, damping), so a gain beyond this is a numerical energy source.
   double energy_gain_limit = 0.05;

@@ -37,6 +37,8 @@ struct SyntheticRun {
   // > 0: a mass_kg_per_m column of this (unscaled) mass, and the kinetic energy of the affine motion
   // behind the punch, f m v^2 / 6 (f = run.json's mass scaling, 100), added to the kinetic energy
   double affine_mass = 0;
+  // the punch reaction rings: punch stress (only) times 1 + ring_amplitude sin(2 pi e / ring_period)
+  double ring_amplitude = 0, ring_period = 1e-3;
   // Energies: punch work W = integral of the punch stress over the box area's compaction, stress
   // work 0.9 W (+ energy_gain W from strain energy_gain_from on), kinetic energy ke_ie x stress work.
   double energy_gain = 0, energy_gain_from = 0.003;
@@ -62,6 +64,7 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
     const double e = s.max_strain * i / (s.rows - 1);
     const double t = e / 250.0;
     const double sa = synthetic_axial(s, e), sl = k0 * sa;
+    const double sp = sa * (1.0 + s.ring_amplitude * std::sin(2.0 * M_PI * e / s.ring_period));
     const double ke_ie = e < s.ramp_strain ? 0.3 : e < s.ke_ie_bump_until ? s.ke_ie_bump : 0.01;
     work += 0.5 * (sa + sa_prev) * (e - e_prev) * 1e-3 * 1.2e-3;  // J/m: box 1 x 1.2 mm
     e_prev = e, sa_prev = sa;
@@ -70,7 +73,7 @@ inline void write_synthetic_run(const std::filesystem::path& dir, const Syntheti
     h << fmt::format(
         "{},{:.9g},1e-9,{:.9g},0.3,{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},0,{:.9g},{:.9g},0,{:."
         "9g},{},0\n",
-        i * 100, t, e, sa * 1e-3, sa, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl, -sl * (1 + s.vol_bias),
+        i * 100, t, e, sp * 1e-3, sp, sl * 1.2e-3, sl * 1.2e-3, sa * 1e-3, sl, -sl * (1 + s.vol_bias),
         -sa * (1 + s.vol_bias), -s.szz_factor * sl * (1 + s.vol_bias), ke, ie, work,
         s.affine_mass > 0 && ie > 0 ? ke / ie : ke_ie);
     if (s.overlap_share >= 0) {

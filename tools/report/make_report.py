@@ -585,18 +585,21 @@ def main():
                      "YES" if get(a, "interpenetration", "flagged", default=False) else "no",
                      get(a, "energy_balance", "ratio_at_window_end"),
                      get(a, "energy_balance", "max_ratio"),
-                     "YES" if get(a, "energy_balance", "flagged", default=False) else "no"])
+                     "YES" if get(a, "energy_balance", "flagged", default=False) else "no",
+                     100 * get(a, "moduli_window_spread", "relative", default=float("nan"))])
     rep.table("run_checks", ["run", "T_K", "density_kg_m3", "linear_window_strain", "punch_vs_volume_rms_percent",
                              "M_volume_vs_punch_percent", "ke_ie_max_from_window_start", "ke_ie_flagged",
                              "interpenetration_window_end_percent", "interpenetration_end_percent",
                              "interpenetration_flagged", "energy_ratio_window_end", "energy_ratio_max",
-                             "energy_flagged"], rows,
-              "Per-run checks: linear window, agreement of the punch and volume-averaged stress, KE/IE from the start of "
+                             "energy_flagged", "moduli_window_spread_percent"], rows,
+              "Per-run checks: linear window, agreement of the punch and volume-averaged stress, KE/IE beyond the affine motion behind the punch, (KE - f m v^2/6)/IE, from the start of "
               "the linear window (where the moduli and the strength are read; docs/theory/analysis.md §5), "
               "share of the compaction taken by grains passing into each other at the end of the linear window and of "
               "the run (empty: run without the measure), and kinetic energy plus stress work over the punch work "
               "at the end of the linear window and at most from its start (above 1.05: energy made by the "
-              "discretisation, docs/theory/analysis.md §5)")
+              "discretisation, docs/theory/analysis.md §5), and how much K, G or E move when refitted over the "
+              "window's first or last three quarters (half the range, in % of the value; above 10 %: moduli that "
+              "follow single rows, docs/theory/analysis.md §3)")
     # one line per distinct warning, with the runs it concerns (the same warning on seven runs was
     # seven copies in one paragraph)
     # seven copies in one paragraph): warnings of one kind (the text before its first ':') are one
