@@ -25,6 +25,7 @@ set(PBXMPM_LABELLED_TESTS
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow
   app OwnStudy.BinderTwiceAsStiffIsAnsweredByTheConditionsTable slow,mpi
   app OwnStudy.PorosityQuestionIsAnsweredWithPairedSeeds slow,mpi
+  study PaperDecks.CalibratedRunReadsTableThreeAt293K slow
   study Study.MpiTwoRanksEqualsSequentialAndResumes slow,mpi
   study Study.ResumedStudyUnderMpiKeepsBothRanksBusy slow,mpi
   study Study.RunFailingOnOneRankLeavesTheOtherRanksRunsWhole mpi

@@ -5,6 +5,8 @@
 // size, so for them the run decks are parsed and their overrides checked against the base deck.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -17,6 +19,7 @@
 #include "analysis/run_analysis.hpp"
 #include "contact/contact_matrix.hpp"
 #include "io/deck.hpp"
+#include "io/json.hpp"
 #include "materials/point_driver.hpp"
 #include "setup/build_scene.hpp"
 #include "study/study.hpp"
@@ -255,4 +258,30 @@ TEST(PaperDecks, StudiesReadThePapersLinearStage) {
     EXPECT_NEAR(json_number(*m.find("E_Pa")) / E, 1.0, 0.02) << name;
     std::filesystem::remove_all(dir);
   }
+}
+
+// The calibration's claim, run (a slow test: about 75 s): the calibrated study's 293 K run (20 um
+// cells, to 3.5 % strain) reads Table 3's 32.8 MPa within 15 % (measured 32.9 MPa on 2026-12-06
+// with flow_factor 0.58 and the films' impulses through the particles; 0.55 read 31.7 and 0.62 34.5)
+// and nearly conserves energy ((KE + stress work)/punch work at most 1.13 from the window's start;
+// the faithful deck reaches 2.2, the first fit with the impulses at the node 3.2). The change of
+// the films' transfer that afternoon moved this number by 8 % without a test noticing: a change of
+// the film law, the transfer or the binder that moves the calibration fails here.
+TEST(PaperDecks, CalibratedRunReadsTableThreeAt293K) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("pbxmpm_calibrated_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string cmd = std::string(PBXMPM_BINARY) + " study " + kPaper + "calibrated.toml --out " + dir.string() +
+                          " --only temperature-293K-s1 --threads 1 --quiet --no-report > " + dir.string() + ".log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const DeckTable options = Deck::from_file((dir / "analysis.toml").string()).root().table("analysis");
+  const Json a = analyze_run((dir / "runs" / "temperature-293K-s1").string(), AnalysisOptions::from_deck(options));
+  const double strength = json_number(*json_find(*json_find(a, "strength"), "strength_Pa"));
+  const double energy = json_number(*json_find(*json_find(a, "energy_balance"), "max_ratio"));
+  std::fprintf(stderr, "calibrated 293 K: strength %.2f MPa (Table 3: 32.8), energy ratio at most %.3f\n",
+               strength / 1e6, energy);
+  EXPECT_NEAR(strength, 32.8e6, 0.15 * 32.8e6);
+  EXPECT_LT(energy, 1.2);
+  fs::remove_all(dir);
+  fs::remove(dir.string() + ".log");
 }
