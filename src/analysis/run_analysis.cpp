@@ -284,8 +284,13 @@ static Json window_spread_json(const StressStrainCurve& c, const LinearWindow& w
     r.push_back(lo);
     r.push_back(hi);
     j[std::string(name) + "_range_Pa"] = r;
-    const double rel = v0 != 0 ? 0.5 * (hi - lo) / std::fabs(v0) : std::nan("");
-    if (!(rel <= worst)) worst = rel, worst_name = name;
+    const double rel = 0.5 * (hi - lo) / std::fabs(v0);
+    if (!std::isfinite(rel)) {  // a zero or non-finite modulus: no spread to give (and no NaN in the file)
+      j["relative"] = Json();
+      j["note"] = fmt::format("{} is zero or not finite on a sub-window", name);
+      return j;
+    }
+    if (rel > worst) worst = rel, worst_name = name;
   }
   Json sub = Json::array();
   for (const auto& [x0, x1] : {std::pair{w.lo, cut}, std::pair{from, w.hi}}) {
@@ -297,7 +302,7 @@ static Json window_spread_json(const StressStrainCurve& c, const LinearWindow& w
   j["sub_windows"] = sub;
   j["relative"] = worst;
   j["limit"] = opt.window_spread_limit;
-  const bool flagged = !(worst <= opt.window_spread_limit);
+  const bool flagged = worst > opt.window_spread_limit;
   j["flagged"] = flagged;
   if (flagged) {
     warnings.push_back(fmt::format(
