@@ -279,17 +279,18 @@ static Json window_spread_json(const StressStrainCurve& c, const LinearWindow& w
   for (const auto& [name, v0, v1, v2] : {std::tuple<const char*, double, double, double>{"K", mod.K, a.K, b.K},
                                          {"G", mod.G, a.G, b.G},
                                          {"E", mod.E, a.E, b.E}}) {
+    // std::min/max over a list would skip a NaN that is not its first element
+    if (!std::isfinite(v0) || !std::isfinite(v1) || !std::isfinite(v2) || v0 == 0.0) {
+      j["relative"] = Json();
+      j["note"] = fmt::format("{} is zero or not finite on the window or a sub-window", name);
+      return j;
+    }
     const double lo = std::min({v0, v1, v2}), hi = std::max({v0, v1, v2});
     Json r = Json::array();
     r.push_back(lo);
     r.push_back(hi);
     j[std::string(name) + "_range_Pa"] = r;
     const double rel = 0.5 * (hi - lo) / std::fabs(v0);
-    if (!std::isfinite(rel)) {  // a zero or non-finite modulus: no spread to give (and no NaN in the file)
-      j["relative"] = Json();
-      j["note"] = fmt::format("{} is zero or not finite on a sub-window", name);
-      return j;
-    }
     if (rel > worst) worst = rel, worst_name = name;
   }
   Json sub = Json::array();
@@ -363,9 +364,9 @@ Json analyze_run(const std::string& run_dir, const AnalysisOptions& opt) {
     LinearWindowOptions lw;
     lw.start = std::max(ramp, 0.0);
     // The inertia of the punch's start rings on after the ramp (at mass scaling 10 and a 0.05 %
-    // ramp, KE/IE falls below 5 % near 0.15 % strain): moduli are read only where the run is
-    // quasi-static, from the first point after which KE/IE stays within the limit up to the
-    // window's largest strain. A run that never settles there keeps the ramp's end (and is flagged).
+    // ramp, KE/IE beyond the affine motion falls below 5 % at 0.09-0.12 % strain): moduli are read only where the run
+    // is quasi-static, from the first point after which KE/IE stays within the limit up to the window's largest strain.
+    // A run that never settles there keeps the ramp's end (and is flagged).
     std::size_t last_above = c.size();
     for (std::size_t i = 0; i < c.size(); ++i)
       if (c.strain[i] > lw.start && c.strain[i] <= opt.window_max_strain && std::isfinite(ke_ie[i]) &&

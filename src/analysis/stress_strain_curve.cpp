@@ -18,23 +18,25 @@ StressStrainCurve StressStrainCurve::from_history(const std::string& path) {
   const auto& keie = t.numbers("ke_ie");
   const auto& time = t.numbers("t_s");
   const std::vector<double>* overlap = t.has("field_overlap_m2_per_m") ? &t.numbers("field_overlap_m2_per_m") : nullptr;
-  const bool energy = t.has("kinetic_J_per_m") && t.has("internal_J_per_m") && t.has("punch_work_J_per_m");
+  // 2-D energies and masses are per metre of depth (kinetic_J_per_m, ...), 3-D ones totals (kinetic_J, ...)
+  const std::string per = t.has("kinetic_J_per_m") || !t.has("kinetic_J") ? "_per_m" : "";
+  const bool energy = t.has("kinetic_J" + per) && t.has("internal_J" + per) && t.has("punch_work_J" + per);
   StressStrainCurve c;
   if (energy) {
-    c.kinetic = t.numbers("kinetic_J_per_m");
-    c.internal = t.numbers("internal_J_per_m");
-    c.punch_work = t.numbers("punch_work_J_per_m");
-    const std::string head = "dissipated_", tail = "_J_per_m";
+    c.kinetic = t.numbers("kinetic_J" + per);
+    c.internal = t.numbers("internal_J" + per);
+    c.punch_work = t.numbers("punch_work_J" + per);
+    const std::string head = "dissipated_", tail = "_J" + per;
     for (const std::string& name : t.names())
       if (name.size() > head.size() + tail.size() && name.rfind(head, 0) == 0 &&
           name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
         c.dissipation_parts.emplace_back(name.substr(head.size(), name.size() - head.size() - tail.size()),
                                          t.numbers(name));
-    if (t.has("contact_work_J_per_m")) c.dissipation_parts.emplace_back("contact", t.numbers("contact_work_J_per_m"));
+    if (t.has("contact_work_J" + per)) c.dissipation_parts.emplace_back("contact", t.numbers("contact_work_J" + per));
   }
   if (t.has("max_particle_speed_m_s")) c.max_particle_speed = t.numbers("max_particle_speed_m_s");
   if (t.has("punch_velocity_m_s")) c.punch_velocity = t.numbers("punch_velocity_m_s");
-  if (t.has("mass_kg_per_m")) c.mass = t.numbers("mass_kg_per_m");
+  if (t.has("mass_kg" + per)) c.mass = t.numbers("mass_kg" + per);
   for (std::size_t i = 0; i < t.rows(); ++i) {
     c.strain.push_back(eps[i]);
     c.punch_stress.push_back(punch[i]);
@@ -58,7 +60,7 @@ std::vector<double> ke_ie_beyond_affine(const StressStrainCurve& c, double mass_
   for (std::size_t i = 0; i < n; ++i) {
     const double v = c.punch_velocity[i];
     const double affine = mass_scaling * c.mass[i] * v * v / 6.0;
-    q[i] = c.internal[i] > 0.0 ? std::max(0.0, c.kinetic[i] - affine) / c.internal[i] : 0.0;
+    q[i] = c.internal[i] > 0.0 ? std::max(0.0, c.kinetic[i] - affine) / c.internal[i] : c.ke_ie[i];
   }
   return q;
 }

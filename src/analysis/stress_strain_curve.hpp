@@ -18,14 +18,14 @@ struct StressStrainCurve {
   std::vector<double> ke_ie;             // kinetic / internal energy of the specimen
   std::vector<double> time;              // s
   std::vector<double> field_overlap;     // m^2 per m, overlapping domains of different fields (empty: not in the file)
-  // J per m: kinetic energy, stress work, punch work (empty when the file has no energy columns)
+  // J per m (3-D: J): kinetic energy, stress work, punch work (empty when the file has no energy columns)
   std::vector<double> kinetic, internal, punch_work;
   // the parts of the dissipated energy (history columns dissipated_<material>_J_per_m and
   // contact_work_J_per_m, written since 2026-12-06; empty in older files), J per m, and the fastest
   // particle's speed, m/s (empty in older files)
   std::vector<std::pair<std::string, std::vector<double>>> dissipation_parts;
   std::vector<double> max_particle_speed, punch_velocity;
-  std::vector<double> mass;  // kg per m, the specimen's (unscaled) mass (empty when the file has no mass column)
+  std::vector<double> mass;  // kg per m (3-D: kg), the specimen's unscaled mass (empty without the column)
   std::size_t size() const { return strain.size(); }
 
   // Reads the columns above from a history.csv; other columns are ignored. Rows with a
@@ -36,9 +36,11 @@ struct StressStrainCurve {
 // KE/IE of the motion beyond the die's affine velocity field, per row: a specimen compressed
 // quasi-statically by a punch at speed v moves with v(y) = v y/H, whose kinetic energy
 // f m v^2 / 6 (uniform mass over the height, mass scaling f) is no dynamics but stays a large share
-// of the stress work early in the test (0.15 at 0.12 % strain on the quick specimen, where the rest
-// of KE/IE is 0.00-0.03). Returns max(0, KE - f m v^2/6) / IE (0 where IE <= 0), or the history's
-// own ke_ie when the energy, mass or punch velocity columns are absent or f is not a positive number.
+// of the stress work early in the test (0.135 at 0.12 % strain on the quick specimen, where the whole
+// KE/IE is 0.12). Returns max(0, KE - f m v^2/6) / IE (the history's ke_ie where IE <= 0), or the
+// history's ke_ie when the energy, mass or punch velocity columns are absent or f is not a positive
+// number. Where the estimate exceeds KE (a mass not spread evenly over the height) the clamp can hide
+// a ringing of up to that excess, about 0.015 of IE on the quick specimen at 0.12-0.17 % strain.
 std::vector<double> ke_ie_beyond_affine(const StressStrainCurve& c, double mass_scaling);
 
 // Index range [begin, end) of the points with lo <= strain <= hi (strain need not be monotonic

@@ -98,7 +98,7 @@ class Solver {
   // The rigid bodies' part of the contact stage (src/contact/rigid_contact.hpp), recorded in the
   // bodies' impulses and work when `record`.
   void rigid_stage(bool record);
-  // The binder-layer springs' impulses of a contact pass (spring_imp_), handed to the momenta
+  // The binder-layer springs' impulses of a contact pass (springs_), handed to the momenta
   // through the particles whose sums define the springs' jumps (see solver.cpp).
   void spring_impulses_through_particles();
   template <Kernel K>

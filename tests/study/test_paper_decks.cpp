@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -273,14 +275,19 @@ TEST(PaperDecks, CalibratedRunReadsTableThreeAt293K) {
   fs::remove_all(dir);
   const std::string cmd = std::string(PBXMPM_BINARY) + " study " + kPaper + "calibrated.toml --out " + dir.string() +
                           " --only temperature-293K-s1 --threads 1 --quiet --no-report > " + dir.string() + ".log 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  if (std::system(cmd.c_str()) != 0) {
+    std::ifstream log(dir.string() + ".log");
+    FAIL() << cmd << "\n" << std::string(std::istreambuf_iterator<char>(log), {});
+  }
   const DeckTable options = Deck::from_file((dir / "analysis.toml").string()).root().table("analysis");
   const Json a = analyze_run((dir / "runs" / "temperature-293K-s1").string(), AnalysisOptions::from_deck(options));
   const double strength = json_number(*json_find(*json_find(a, "strength"), "strength_Pa"));
   const double energy = json_number(*json_find(*json_find(a, "energy_balance"), "max_ratio"));
   std::fprintf(stderr, "calibrated 293 K: strength %.2f MPa (Table 3: 32.8), energy ratio at most %.3f\n",
                strength / 1e6, energy);
-  EXPECT_NEAR(strength, 32.8e6, 0.15 * 32.8e6);
+  EXPECT_NEAR(strength, 32.8e6, 0.15 * 32.8e6);  // the band around Table 3
+  // and the calibration as fitted, to 3 %: flow_factor 0.55 / 0.62 read 31.7 / 34.5 MPa, inside the band
+  EXPECT_NEAR(strength, 32.88e6, 0.03 * 32.88e6);
   EXPECT_LT(energy, 1.2);
   fs::remove_all(dir);
   fs::remove(dir.string() + ".log");
