@@ -279,7 +279,8 @@ TEST(PaperDecks, CalibratedRunReadsTableThreeAt293K) {
     std::ifstream log(dir.string() + ".log");
     FAIL() << cmd << "\n" << std::string(std::istreambuf_iterator<char>(log), {});
   }
-  const DeckTable options = Deck::from_file((dir / "analysis.toml").string()).root().table("analysis");
+  const Deck deck = Deck::from_file((dir / "analysis.toml").string());  // the tables below refer into it
+  const DeckTable options = deck.root().table("analysis");
   const Json a = analyze_run((dir / "runs" / "temperature-293K-s1").string(), AnalysisOptions::from_deck(options));
   const double strength = json_number(*json_find(*json_find(a, "strength"), "strength_Pa"));
   const double energy = json_number(*json_find(*json_find(a, "energy_balance"), "max_ratio"));
