@@ -642,7 +642,9 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   // [[rigid]] face unclamped (the punch's share of M's error: about 0.4 %); with linear shapes the particles in front
   // of a face lying between nodes move slower than the face, the top row is overrun and the run inverts a particle
   // (at 1.5 % strain with 10 um cells, for every contact_cutoff from 0 to 1; M 15 % low before), the cell-crossing
-  // error of the linear hat. Linear stays for runs without contact bodies (bar vibration with a stick clamp).
+  // error of the linear hat. A face contact that keeps the top row in front of the punch does not save it: the
+  // column's mean strain then falls 24 % short at 3.6 % (M 32 % low) from cell crossings in the bulk
+  // (docs/theory/engine.md). Linear stays for runs without contact bodies (bar vibration with a stick clamp).
   bool die_only = true;  // every unilateral body is one of the die's
   for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
     const int ib = static_cast<int>(b);

@@ -235,8 +235,9 @@ TEST(DieBlock, Bspline2PassesTheDieTestAtTwoResolutions) {
 
 // Linear shapes fail in the die (measured 2026-12-04 and again 2026-12-06: the run inverts a
 // particle at 1.5 % strain with 10 um cells, for every contact_cutoff from 0 to 1; M 15 % low
-// before), and bspline2 is clamped only at the die's own walls: a run refuses linear beside any
-// unilateral rigid body, and bspline2 beside a unilateral [[rigid]] body, naming the key and the
+// before; with a face contact that keeps the top row in front of the punch, tried 2026-12-06, the run finishes
+// but M is 32 % low from the bulk's cell crossings), and bspline2 is clamped only at the die's own walls: a run refuses
+// linear beside any unilateral rigid body, and bspline2 beside a unilateral [[rigid]] body, naming the key and the
 // reason, instead of giving a wrong modulus.
 TEST(DieBlock, ShapeFunctionsThatFailTheDieTestAreRefused) {
   const std::string plate = R"(
