@@ -379,32 +379,8 @@ void Solver<D>::spring_impulses_impl() {
   const std::vector<std::uint8_t>& spring_node = springs_.node;  // flagged by field_contact
   const std::vector<Vec<D>>& imp = springs_.impulse;
   if (std::find(spring_node.begin(), spring_node.end(), std::uint8_t{1}) == spring_node.end()) return;
-  // The nodes with a spring node in their 3^D block: a stencil (the 3^D nodes around its middle
-  // node, for every kernel) meets a spring node only if its middle node is one of these, so the other
-  // particles (a third on the quick specimen) leave after their stencil.
-  spring_near_.assign(static_cast<std::size_t>(nn), 0);
-  for (long i = 0; i < nn; ++i) {
-    if (!spring_node[static_cast<std::size_t>(i)]) continue;
-    if constexpr (D == 2) {
-      for (long dj = -g.stride[1]; dj <= g.stride[1]; dj += g.stride[1])
-        for (long di = -1; di <= 1; ++di) {
-          const long j = i + di + dj;  // a wrapped row only marks a node more (a particle visits its nodes)
-          if (j >= 0 && j < nn) spring_near_[static_cast<std::size_t>(j)] = 1;
-        }
-    } else {
-      for (long dk = -g.stride[2]; dk <= g.stride[2]; dk += g.stride[2])
-        for (long dj = -g.stride[1]; dj <= g.stride[1]; dj += g.stride[1])
-          for (long di = -1; di <= 1; ++di) {
-            const long j = i + di + dj + dk;
-            if (j >= 0 && j < nn) spring_near_[static_cast<std::size_t>(j)] = 1;
-          }
-    }
-  }
   auto hand = [&](std::size_t p) {
     const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
-    long middle = 0;
-    for (int d = 0; d < D; ++d) middle += (st.base[d] + 1) * g.stride[d];
-    if (!spring_near_[static_cast<std::size_t>(middle)]) return;
     const long off = static_cast<long>(P.field[p]) * nn;
     Vec<D> take = Vec<D>::Zero();
     bool any = false;

@@ -159,8 +159,7 @@ class Solver {
   // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with
   // their final velocities
   ContactVelocities contact_vel_;
-  SpringImpulses<D> springs_;              // the springs' impulses of the pass after the update, and their nodes
-  std::vector<std::uint8_t> spring_near_;  // per node: a spring node within its 3^D block
+  SpringImpulses<D> springs_;  // the springs' impulses of the pass after the update, and their nodes
 };
 
 }  // namespace pbx
