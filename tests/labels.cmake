@@ -1,8 +1,8 @@
 # CTest labels beyond each test's module (its tests/<module> folder, set in tests/CMakeLists.txt).
 # Included by CTest after the discovered tests, so the names below must be exact: the test
 # Tests.LabelListsNameExistingTests fails on a stale one.
-#   slow: a whole die, contact or study run, 2-85 s in Release on 2 cores and 10-20x that under
-#         the sanitizers (scripts/test-sanitized skips them; shorter tests of the same kind cover
+#   slow: a whole die, contact or study run (or every example deck checked), 2-90 s in Release on
+#         2 cores and 10-20x that under the sanitizers (scripts/test-sanitized skips them; shorter tests of the same kind cover
 #         their code paths there). Select with `ctest -L slow`, skip with `ctest -LE slow`.
 #   mpi:  runs pbxmpm under mpirun (LeakSanitizer reports Open MPI's own allocations at exit).
 set(PBXMPM_LABELLED_TESTS
@@ -21,6 +21,7 @@ set(PBXMPM_LABELLED_TESTS
   contact BinderLayer.BondedZoneDeeperThanTheClosureKeepsTheSpringAtFineCells slow
   contact BinderLayer.AutomaticBondedZoneCoversTheLayersClosure slow
   contact ExtrudedSlab.ThreeDimensionalSlabOfAPackedSpecimenGivesThePlaneStrainCurves slow
+  app Examples.EveryShippedDeckIsAccepted slow
   app Faults.RunsKilledAtRandomPointsResumeBitForBit slow
   app Faults.StudiesKilledAtRandomPointsResumeBitForBit slow
   app OwnStudy.BinderTwiceAsStiffIsAnsweredByTheConditionsTable slow,mpi
