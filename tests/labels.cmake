@@ -2,8 +2,9 @@
 # Included by CTest after the discovered tests, so the names below must be exact: the test
 # Tests.LabelListsNameExistingTests fails on a stale one.
 #   slow: a whole die, contact or study run (or every example deck checked), 2-90 s in Release on
-#         2 cores and 10-20x that under the sanitizers (scripts/test-sanitized skips them; shorter tests of the same kind cover
-#         their code paths there). Select with `ctest -L slow`, skip with `ctest -LE slow`.
+#         2 cores and 10-20x that under the sanitizers (scripts/test-sanitized skips them; shorter
+#         tests of the same kind cover their code paths there). Select with `ctest -L slow`, skip
+#         with `ctest -LE slow`.
 #   mpi:  runs pbxmpm under mpirun (LeakSanitizer reports Open MPI's own allocations at exit).
 set(PBXMPM_LABELLED_TESTS
   analysis EngineBlock.HomogeneousElasticBlockInTheDieGivesBackKGE slow
