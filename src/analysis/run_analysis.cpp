@@ -123,7 +123,7 @@ Json energy_balance_json(const StressStrainCurve& c, double from, double window_
   const bool flagged = worst > 1.0 + opt.energy_gain_limit;
   j["flagged"] = flagged;
   // Where the energy went at the end of the run: each part of the dissipation over the punch work
-  // (a part above 1 alone is energy the discretisation made and the part then spent), and the
+  // (a material's part above 1 alone is energy the discretisation made and the part then spent), and the
   // fastest particle against the punch from the window's start (a local instability moves a few
   // particles tens of times faster than the punch while the specimen creeps).
   std::string where;
