@@ -1,5 +1,6 @@
 // `pbxmpm run DECK` and `pbxmpm check DECK`.
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -40,6 +41,18 @@ Deck deck_from_file_with(const std::string& file, const std::vector<std::string>
   // messages give lines of the rewritten deck, so they name it as such
   return Deck::from_string(deck_with_overrides(text, file, ov), file + " (as rewritten by --set)",
                            std::filesystem::path(file).parent_path().string());
+}
+
+// The ranks an MPI launcher started this process among (Open MPI's mpirun, a PMI launcher such as
+// MPICH's or Slurm's srun), 1 when none did. Read from the launcher's environment, so a plain run
+// needs no MPI runtime.
+int launched_ranks() {
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(var)) {
+      const int n = std::atoi(v);
+      if (n > 0) return n;
+    }
+  return 1;
 }
 
 template <int D>
@@ -125,6 +138,15 @@ void register_run(CLI::App& app) {
                   "repeatable; checked like the deck, and saved in run.json and the checkpoint");
   run->add_flag("--quiet,-q", args->quiet, "no progress display");
   run->callback([args, run] {
+    // Every rank would run the whole deck into the same folder (the second finds it locked and
+    // mpirun then stops the first mid-run): one run is one process until a domain decomposition
+    // exists (docs/architecture.md, "Parallelism").
+    if (const int ranks = launched_ranks(); ranks > 1)
+      throw InputError(fmt::format(
+          "pbxmpm run: started as {} MPI ranks, but one run is one process: it does not yet split over ranks. "
+          "Use its OpenMP threads (pbxmpm run --threads N, or OMP_NUM_THREADS), or spread the runs of a sweep "
+          "over ranks with `mpirun -n {} pbxmpm study STUDY.toml`",
+          ranks, ranks));
     if (args->out.empty())
       throw InputError("--out: an empty folder name (an unset shell variable?); give the output folder");
     Deck deck = Deck::from_string("", "");
