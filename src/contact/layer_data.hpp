@@ -33,6 +33,13 @@ struct LayerParticles {
     permute_in_place(N0, order, done);
     permute_in_place(inv_t, order, done);
   }
+  // follows Particles::keep
+  void keep(std::size_t begin, std::size_t end) {
+    keep_range(X0, begin, end);
+    keep_range(bonded, begin, end);
+    keep_range(N0, begin, end);
+    keep_range(inv_t, begin, end);
+  }
 };
 
 template <int D>

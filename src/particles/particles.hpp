@@ -3,6 +3,7 @@
 // batches and history slots stay valid; build_scene orders the particles strip by strip (the
 // solver's scatter strips, grid/strip_bins.hpp) before the batches are made, so that the solver's
 // per-strip loops sweep memory linearly.
+#include <cstddef>
 #include <cstdint>
 #include <algorithm>
 #include <vector>
@@ -30,6 +31,15 @@ void permute_in_place(std::vector<T>& a, const std::vector<std::uint32_t>& order
     a[k] = first;
     done[k] = true;
   }
+}
+
+// Keeps a[begin, end) and drops the rest (an empty array is left empty).
+template <class T>
+void keep_range(std::vector<T>& a, std::size_t begin, std::size_t end) {
+  if (a.empty()) return;
+  a.erase(a.begin() + static_cast<std::ptrdiff_t>(end), a.end());
+  a.erase(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(begin));
+  a.shrink_to_fit();
 }
 
 template <int D>
@@ -78,6 +88,21 @@ struct Particles {
     permute_in_place(material, order, done);
     permute_in_place(field, order, done);
     permute_in_place(slot, order, done);
+  }
+
+  // Keeps particles [begin, end) and drops the rest (a rank's part of a decomposed run).
+  void keep(std::size_t begin, std::size_t end) {
+    keep_range(x, begin, end);
+    keep_range(v, begin, end);
+    keep_range(mass, begin, end);
+    keep_range(volume0, begin, end);
+    keep_range(volume, begin, end);
+    keep_range(F, begin, end);
+    keep_range(L, begin, end);
+    keep_range(stress, begin, end);
+    keep_range(material, begin, end);
+    keep_range(field, begin, end);
+    keep_range(slot, begin, end);
   }
 
   std::size_t add(const Vec<D>& pos, double vol, double m, int mat, int fld) {

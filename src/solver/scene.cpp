@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 #include "grid/strip_bins.hpp"
 
@@ -62,7 +63,35 @@ void order_by_strip(Scene<D>& sc) {
   }
 }
 
+template <int D>
+void keep_particle_range(Scene<D>& sc, std::size_t begin, std::size_t end) {
+  auto& P = sc.particles;
+  if (begin > end || end > P.size()) throw std::invalid_argument("keep_particle_range: range outside the particles");
+  // each batch is in storage order (order_by_strip), so the kept particles of a material are a
+  // contiguous part of its batch, and their history rows the same part of its history
+  for (std::size_t m = 0; m < sc.material_state.size(); ++m) {
+    auto& st = sc.material_state[m];
+    if (!std::is_sorted(st.index.begin(), st.index.end()))
+      throw std::invalid_argument("keep_particle_range: the scene is not ordered by strip");
+    const std::size_t hs = static_cast<std::size_t>(sc.materials[m]->history_size());
+    const auto lo = static_cast<std::size_t>(
+        std::lower_bound(st.index.begin(), st.index.end(), static_cast<std::uint32_t>(begin)) - st.index.begin());
+    const auto hi = static_cast<std::size_t>(
+        std::lower_bound(st.index.begin(), st.index.end(), static_cast<std::uint32_t>(end)) - st.index.begin());
+    for (std::size_t k = lo; k < hi; ++k) P.slot[st.index[k]] -= static_cast<std::uint32_t>(lo);
+    keep_range(st.index, lo, hi);
+    for (auto& i : st.index) i -= static_cast<std::uint32_t>(begin);
+    if (hs > 0) keep_range(st.history, lo * hs, hi * hs);
+  }
+  P.keep(begin, end);
+  sc.layer_data.particles.keep(begin, end);
+  keep_range(sc.grain_coat, begin, end);
+  keep_range(sc.grain_index, begin, end);
+}
+
 template void order_by_strip<2>(Scene<2>&);
 template void order_by_strip<3>(Scene<3>&);
+template void keep_particle_range<2>(Scene<2>&, std::size_t, std::size_t);
+template void keep_particle_range<3>(Scene<3>&, std::size_t, std::size_t);
 
 }  // namespace pbx

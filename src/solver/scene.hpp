@@ -79,4 +79,11 @@ struct Scene {
 template <int D>
 void order_by_strip(Scene<D>& sc);
 
+// Keeps the particles [begin, end) of a scene ordered by strip (order_by_strip) and drops the
+// rest, with their material batch entries, history rows and binder-layer data: one rank's part of
+// a run decomposed over ranks, taken after the whole scene was set up (docs/architecture.md, "One
+// run over many ranks"). The kept particles keep their order, and so do their batches.
+template <int D>
+void keep_particle_range(Scene<D>& sc, std::size_t begin, std::size_t end);
+
 }  // namespace pbx

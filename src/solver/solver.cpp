@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -112,6 +113,9 @@ double Solver<D>::stable_time_step() const {
 // ------------------------------------------------------------------------------------- the step
 template <int D>
 void Solver<D>::step(double max_dt) {
+  if (exchange_)
+    throw std::logic_error(
+        "Solver::step: a run decomposed over ranks cannot step yet (issue 28: only its first P2G is built)");
   dt_ = std::min(stable_time_step(), max_dt);
   rigid_p2g();
   switch (sc_.settings.integrator) {
@@ -246,7 +250,10 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
         if (!bins_.stray[static_cast<std::size_t>(p)])
           scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
     }
+    if (exchange_) exchange_->after_phase(phase);
   }
+  if (exchange_ && !bins_.strays.empty())
+    throw std::logic_error("Solver::p2g: strays in a run decomposed over ranks (their exchange is not built yet)");
   for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
 }
 

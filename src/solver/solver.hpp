@@ -14,6 +14,7 @@
 #include "contact/field_contact.hpp"
 #include "contact/scatter_masks.hpp"
 #include "grid/strip_bins.hpp"
+#include "solver/scatter_exchange.hpp"
 #include "solver/scene.hpp"
 #include "solver/stage_clock.hpp"
 #include "solver/transfer.hpp"
@@ -94,6 +95,15 @@ class Solver {
 
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+  // A decomposed run (issue 28; docs/architecture.md, "One run over many ranks"): the exchange
+  // that completes the nodal sums of the shared node lines between the scatter's parity phases.
+  // Built so far: the stand-alone P2G (p2g) with no strays; step() refuses to run with one set.
+  void set_scatter_exchange(ScatterExchange* exchange) { exchange_ = exchange; }
+  // Where the strips of the scene begin in storage order (strip s: [strip_begin()[s],
+  // strip_begin()[s + 1])) and how wide they are, for a partition of the run over ranks.
+  const std::vector<long>& strip_begin() const { return bins_.begin; }
+  const StripBins& strips() const { return bins_; }
+
  private:
   // The rigid bodies' part of the contact stage (src/contact/rigid_contact.hpp), recorded in the
   // bodies' impulses and work when `record`.
@@ -159,7 +169,8 @@ class Solver {
   // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with
   // their final velocities
   ContactVelocities contact_vel_;
-  SpringImpulses<D> springs_;  // the springs' impulses of the pass after the update, and their nodes
+  SpringImpulses<D> springs_;            // the springs' impulses of the pass after the update, and their nodes
+  ScatterExchange* exchange_ = nullptr;  // a decomposed run's halo exchange (null: one process)
 };
 
 }  // namespace pbx

@@ -1,0 +1,102 @@
+#include "distributed/strip_exchange.hpp"
+
+#include <stdexcept>
+
+namespace pbx {
+
+namespace {
+
+// Calls f(first double, doubles per entry) for every nodal sum a scatter makes (the grid's, and the
+// binder layer's when it is on), the entry of field f at node i being at index grid.at(f, i).
+template <int D, class F>
+void for_each_sum(Grid<D>& g, LayerSums<D>* layer, F&& f) {
+  f(g.mass.data(), 1);
+  f(g.mom.data()->data(), D);
+  f(g.moff.data()->data(), D);
+  f(g.vgrad.data()->data(), D);
+  f(g.force.data()->data(), D);
+  if (layer && !layer->mbond.empty()) {
+    f(layer->mref.data()->data(), D);
+    f(layer->mdef.data()->data(), D * D);
+    f(layer->mbond.data(), 1);
+    f(layer->mnorm.data()->data(), D);
+    f(layer->minvt.data(), 1);
+  }
+}
+
+}  // namespace
+
+template <int D>
+StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips,
+                                long first_strip, long end_strip)
+    : comm_(comm), g_(grid), layer_(layer) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  if (first_strip >= end_strip || width < 3)
+    throw std::invalid_argument("StripExchange: a rank needs at least one strip, and strips three cells");
+  // the rank of strip s holds the even strip of a cut when s is even: it sends after the even phase
+  if (rank > 0) cuts_.push_back({rank - 1, first_strip * width - 1, first_strip % 2 == 0 ? 0 : 1});
+  if (rank < size - 1 && end_strip < strips)
+    cuts_.push_back({rank + 1, end_strip * width - 1, (end_strip - 1) % 2 == 0 ? 0 : 1});
+  for (int k = 0; k < 2; ++k) {
+    send_[k].clear();
+    recv_[k].clear();
+  }
+  for (std::size_t k = 0; k < cuts_.size(); ++k) {
+    pack(cuts_[k], send_[k]);  // sizes the buffers
+    recv_[k].assign(send_[k].size(), 0.0);
+  }
+}
+
+template <int D>
+void StripExchange<D>::pack(const Cut& c, std::vector<double>& buf) const {
+  buf.clear();
+  const long n0 = g_.n[0], rows = g_.nodes() / n0;
+  for_each_sum(g_, layer_, [&](const double* a, int w) {
+    for (int f = 0; f < g_.deformable; ++f)
+      for (long r = 0; r < rows; ++r)
+        for (long x = c.line0; x < c.line0 + 3; ++x) {
+          const double* e = a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(f, r * n0 + x));
+          buf.insert(buf.end(), e, e + w);
+        }
+  });
+}
+
+template <int D>
+void StripExchange<D>::unpack(const Cut& c, const std::vector<double>& buf) {
+  const long n0 = g_.n[0], rows = g_.nodes() / n0;
+  std::size_t k = 0;
+  for_each_sum(g_, layer_, [&](double* a, int w) {
+    for (int f = 0; f < g_.deformable; ++f)
+      for (long r = 0; r < rows; ++r)
+        for (long x = c.line0; x < c.line0 + 3; ++x) {
+          double* e = a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(f, r * n0 + x));
+          for (int i = 0; i < w; ++i) e[i] = buf[k++];
+        }
+  });
+}
+
+template <int D>
+void StripExchange<D>::after_phase(int phase) {
+  std::vector<MPI_Request> req;
+  for (std::size_t k = 0; k < cuts_.size(); ++k) {
+    const Cut& c = cuts_[k];
+    MPI_Request r;
+    if (c.sends_after == phase) {
+      pack(c, send_[k]);
+      MPI_Isend(send_[k].data(), static_cast<int>(send_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &r);
+    } else {
+      MPI_Irecv(recv_[k].data(), static_cast<int>(recv_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &r);
+    }
+    req.push_back(r);
+  }
+  if (!req.empty()) MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (std::size_t k = 0; k < cuts_.size(); ++k)
+    if (cuts_[k].sends_after != phase) unpack(cuts_[k], recv_[k]);
+}
+
+template class StripExchange<2>;
+template class StripExchange<3>;
+
+}  // namespace pbx

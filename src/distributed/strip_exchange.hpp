@@ -1,0 +1,47 @@
+#pragma once
+// The parity exchange of a run decomposed over ranks by strips (docs/architecture.md, "One run
+// over many ranks", item 2). Across the cut at strip boundary s (strip s - 1 on the rank below,
+// strip s on the rank above) the particles of both strips reach the three node lines b - 1, b,
+// b + 1 (b = s x width, a particle reaches one line below its cell and two above). One process sums
+// the even strip of the two first, then the odd one on top. So after the even phase the rank
+// holding the even strip sends those lines (every deformable field, every sum the scatter makes)
+// to the other rank, which takes them as they are (its own even strips never reach them) and
+// scatters its odd strip on top; after the odd phase it sends the final lines back. Every node
+// then holds the one-process bits on both ranks.
+#include <mpi.h>
+
+#include <vector>
+
+#include "contact/layer_data.hpp"
+#include "grid/grid.hpp"
+#include "solver/scatter_exchange.hpp"
+
+namespace pbx {
+
+template <int D>
+class StripExchange final : public ScatterExchange {
+ public:
+  // This rank owns strips [first_strip, end_strip) of `strips` strips `width` cells wide; `layer`
+  // holds the binder-layer sums (null or off: none).
+  StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips, long first_strip,
+                long end_strip);
+  void after_phase(int phase) override;
+  // doubles one cut's lines hold (every field, every sum), the size of each message
+  std::size_t message_doubles() const { return send_[0].size(); }
+
+ private:
+  struct Cut {
+    int peer;         // the rank across the cut
+    long line0;       // first of its three node lines (x index)
+    int sends_after;  // the phase after which this rank sends (the one after the other phase, it receives)
+  };
+  void pack(const Cut& c, std::vector<double>& buf) const;
+  void unpack(const Cut& c, const std::vector<double>& buf);
+  MPI_Comm comm_;
+  Grid<D>& g_;
+  LayerSums<D>* layer_;
+  std::vector<Cut> cuts_;
+  std::vector<double> send_[2], recv_[2];
+};
+
+}  // namespace pbx

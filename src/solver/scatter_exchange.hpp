@@ -1,0 +1,17 @@
+#pragma once
+// The nodal sums of a scatter pass completed across the ranks of a decomposed run
+// (docs/architecture.md, "One run over many ranks"). A scatter runs its even strips, then its odd
+// strips (grid/strip_bins.hpp); the solver calls after_phase(0) between the two and after_phase(1)
+// after the odd ones, and the exchange moves the node lines two ranks share so that every node
+// receives its sums in the one-process order. The solver holds a null pointer in a run of one
+// process. An interface (one virtual call per phase, never per particle), so the time step needs
+// no MPI: the implementation lives in src/distributed/.
+namespace pbx {
+
+class ScatterExchange {
+ public:
+  virtual ~ScatterExchange() = default;
+  virtual void after_phase(int phase) = 0;
+};
+
+}  // namespace pbx

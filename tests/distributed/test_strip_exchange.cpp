@@ -1,0 +1,191 @@
+// The first brick of one run over many ranks (issue 28; docs/architecture.md, "One run over many
+// ranks"): the strips shared out over ranks, a rank's part of a scene, and the parity exchange,
+// whose nodal sums on 2 and 3 ranks must equal one process's to the bit on the paper specimen.
+// The MPI test launches itself under mpirun (each rank runs the test's MPI part).
+#include <mpi.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "distributed/strip_exchange.hpp"
+#include "distributed/strip_partition.hpp"
+#include "io/deck.hpp"
+#include "io/deck_override.hpp"
+#include "setup/build_scene.hpp"
+#include "solver/solver.hpp"
+
+using namespace pbx;
+
+namespace {
+
+// The quick study's paper specimen (20 um cells, 293 K, porosity 0.08, seed 1): ten grain fields
+// and the binder field, binder-layer sums on; `kernel` as the deck spells it.
+Scene<2> paper_specimen(const std::string& kernel) {
+  const std::string dir = std::string(PBXMPM_EXAMPLES_DIR) + "/paper", file = dir + "/base.toml";
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::vector<DeckOverride> set = {{"grid.cell_size", "\"20 um\""},
+                                         {"grid.shape_function", "\"" + kernel + "\""},
+                                         {"packing.porosity", "0.08"},
+                                         {"run.temperature", "\"293 K\""},
+                                         {"specimen.seed", "1"}};
+  Deck deck = Deck::from_string(deck_with_overrides(ss.str(), file, set), file, dir);
+  return build_scene<2>(deck, SceneNotes::quiet);
+}
+
+bool under_mpirun() { return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr; }
+
+}  // namespace
+
+// Whole strips, contiguous, every rank its minimum, and the particles shared within a strip's worth.
+TEST(StripPartition, SharesWholeStripsBalancedByParticles) {
+  // 10 strips of 100 particles, one of 1,000
+  std::vector<long> begin = {0};
+  for (int s = 0; s < 11; ++s) begin.push_back(begin.back() + (s == 4 ? 1000 : 100));
+  const StripPartition two = partition_strips(begin, 2);
+  ASSERT_EQ(two.first.size(), 3u);
+  EXPECT_EQ(two.first[0], 0);
+  EXPECT_EQ(two.first[2], 11);
+  // half of 2,000 particles is reached at the end of strip 4 (1,400 >= 1,000)
+  EXPECT_EQ(two.first[1], 5);
+  const StripPartition four = partition_strips(begin, 4, 2);
+  for (int r = 0; r < 4; ++r) EXPECT_GE(four.strips_of(r), 2) << r;
+  EXPECT_EQ(four.first.back(), 11);
+  EXPECT_THROW(partition_strips(begin, 4, 3), std::invalid_argument);  // 11 strips cannot give 12
+  EXPECT_THROW(partition_strips(begin, 0), std::invalid_argument);
+}
+
+// Each rank's part of the scene, taken after the whole scene was set up, holds the whole scene's
+// particles of its strips with their history rows and binder-layer data, in the same order.
+TEST(KeepParticleRange, TheRanksPartsTogetherAreTheWholeScene) {
+  Scene<2> whole = paper_specimen("ugimp");
+  Solver<2> solver(whole);
+  const std::vector<long> sb = solver.strip_begin();
+  const StripPartition part = partition_strips(sb, 3);
+  std::size_t total = 0;
+  for (int r = 0; r < 3; ++r) {
+    Scene<2> sc = paper_specimen("ugimp");
+    const auto b = static_cast<std::size_t>(sb[static_cast<std::size_t>(part.first[static_cast<std::size_t>(r)])]);
+    const auto e = static_cast<std::size_t>(sb[static_cast<std::size_t>(part.first[static_cast<std::size_t>(r) + 1])]);
+    keep_particle_range(sc, b, e);
+    ASSERT_EQ(sc.particles.size(), e - b);
+    total += sc.particles.size();
+    for (std::size_t p = 0; p < sc.particles.size(); ++p) {
+      ASSERT_EQ(sc.particles.x[p], whole.particles.x[b + p]) << p;
+      ASSERT_EQ(sc.particles.material[p], whole.particles.material[b + p]);
+      ASSERT_EQ(sc.particles.field[p], whole.particles.field[b + p]);
+      ASSERT_EQ(sc.layer_data.particles.bonded[p], whole.layer_data.particles.bonded[b + p]);
+      ASSERT_EQ(sc.layer_data.particles.X0[p], whole.layer_data.particles.X0[b + p]);
+      // the particle's history row is the whole scene's row of the same particle
+      const std::size_t m = static_cast<std::size_t>(sc.particles.material[p]);
+      const std::size_t hs = static_cast<std::size_t>(sc.materials[m]->history_size());
+      ASSERT_EQ(sc.material_state[m].index[sc.particles.slot[p]], p);
+      for (std::size_t i = 0; i < hs; ++i)
+        ASSERT_EQ(sc.material_state[m].history[sc.particles.slot[p] * hs + i],
+                  whole.material_state[m].history[whole.particles.slot[b + p] * hs + i]);
+    }
+  }
+  EXPECT_EQ(total, whole.particles.size());
+  EXPECT_GT(whole.layer_data.particles.bonded.size(), 0u) << "the specimen should have binder layers";
+}
+
+// The parity exchange: the first P2G of the paper specimen split over 2 and 3 ranks gives at every
+// node a rank's particles reach the one-process sums to the bit (mass, momentum, force, offsets,
+// volume gradients and the binder-layer sums, every field), for uGIMP and bspline2 (clamped at the
+// die). Adding the two ranks' partial sums instead would differ in the last bits at the shared
+// lines; this test would see it.
+TEST(StripExchange, RanksGiveTheOneProcessNodalSumsToTheBit) {
+  if (!under_mpirun()) {
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+    // the executable's own path, for the ranks to start it again with this test alone
+    char self[4096] = {};
+    ASSERT_GT(::readlink("/proc/self/exe", self, sizeof self - 1), 0);
+    for (int n : {2, 3}) {
+      const std::string line = fmt::format(
+          "OMP_NUM_THREADS=1 timeout 240 mpirun --allow-run-as-root --oversubscribe --bind-to none -n {} '{}' "
+          "--gtest_color=no --gtest_filter=StripExchange.RanksGiveTheOneProcessNodalSumsToTheBit 2>&1",
+          n, self);
+      FILE* p = popen(line.c_str(), "r");
+      ASSERT_NE(p, nullptr);
+      std::string out;
+      char buf[4096];
+      std::size_t k;
+      while ((k = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, k);
+      const int status = pclose(p);
+      EXPECT_EQ(status, 0) << n << " ranks:\n" << out;
+      // every rank ran the test and passed it
+      int passed = 0;
+      for (auto at = out.find("[  PASSED  ] 1 test"); at != std::string::npos;
+           at = out.find("[  PASSED  ] 1 test", at + 1))
+        ++passed;
+      EXPECT_EQ(passed, n) << out;
+    }
+    return;
+  }
+  MPI_Init(nullptr, nullptr);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  for (const char* kernel : {"ugimp", "bspline2"}) {
+    Scene<2> whole = paper_specimen(kernel);
+    Solver<2> one(whole);
+    one.reset_grid();
+    one.p2g(true);
+    const std::vector<long> sb = one.strip_begin();
+    const StripBins& bins = one.strips();
+    const StripPartition part = partition_strips(sb, size);
+    const long first = part.first[static_cast<std::size_t>(rank)], end = part.first[static_cast<std::size_t>(rank) + 1];
+
+    Scene<2> mine = paper_specimen(kernel);
+    keep_particle_range(mine, static_cast<std::size_t>(sb[static_cast<std::size_t>(first)]),
+                        static_cast<std::size_t>(sb[static_cast<std::size_t>(end)]));
+    Solver<2> local(mine);
+    StripExchange<2> exchange(MPI_COMM_WORLD, mine.grid, &mine.layer_data.sums, bins.width, bins.strips, first, end);
+    local.set_scatter_exchange(&exchange);
+    local.reset_grid();
+    local.p2g(true);
+    EXPECT_THROW(local.step(), std::logic_error);  // stepping is not built yet
+
+    // the node lines this rank's particles reach
+    const Grid<2>& a = whole.grid;
+    const Grid<2>& b = mine.grid;
+    const long lo = first == 0 ? 0 : first * bins.width - 1;
+    const long hi = end == bins.strips ? a.n[0] - 1 : end * bins.width + 1;
+    long compared = 0, differ = 0, shared_nonzero = 0;
+    const auto same = [&](const double* x, const double* y, int w) {
+      return std::memcmp(x, y, sizeof(double) * w) == 0;
+    };
+    for (int f = 0; f < a.deformable; ++f)
+      for (long j = 0; j < a.n[1]; ++j)
+        for (long i = lo; i <= hi; ++i) {
+          const auto k = static_cast<std::size_t>(a.at(f, i + j * a.stride[1]));
+          bool ok = same(&a.mass[k], &b.mass[k], 1) && same(a.mom[k].data(), b.mom[k].data(), 2) &&
+                    same(a.force[k].data(), b.force[k].data(), 2) && same(a.moff[k].data(), b.moff[k].data(), 2) &&
+                    same(a.vgrad[k].data(), b.vgrad[k].data(), 2);
+          const auto& la = whole.layer_data.sums;
+          const auto& lb = mine.layer_data.sums;
+          ok = ok && same(la.mref[k].data(), lb.mref[k].data(), 2) && same(la.mdef[k].data(), lb.mdef[k].data(), 4) &&
+               same(&la.mbond[k], &lb.mbond[k], 1) && same(la.mnorm[k].data(), lb.mnorm[k].data(), 2) &&
+               same(&la.minvt[k], &lb.minvt[k], 1);
+          ++compared;
+          differ += !ok;
+          const bool shared = (first > 0 && i <= lo + 2) || (end < bins.strips && i >= hi - 2);
+          shared_nonzero += shared && a.mass[k] > 0;
+        }
+    EXPECT_EQ(differ, 0) << kernel << ": rank " << rank << " of " << size << ", " << compared << " node-fields";
+    // the shared lines hold mass (the test compares sums two ranks made, not empty nodes)
+    if (size > 1) {
+      EXPECT_GT(shared_nonzero, 50) << kernel << ": rank " << rank;
+    }
+  }
+  MPI_Finalize();
+}
