@@ -32,7 +32,8 @@ set(PBXMPM_LABELLED_TESTS
   study Study.ResumedStudyUnderMpiKeepsBothRanksBusy slow,mpi
   study Study.RunFailingOnOneRankLeavesTheOtherRanksRunsWhole mpi
   study Study.StudyFolderThatCannotBeMadeEndsEveryRank mpi
-  distributed StripExchange.RanksGiveTheOneProcessNodalSumsToTheBit mpi)
+  distributed StripExchange.RanksGiveTheOneProcessNodalSumsToTheBit mpi
+  distributed StripExchange.RanksStepTheOneProcessDynamicsToTheBit slow,mpi)
 list(LENGTH PBXMPM_LABELLED_TESTS n)
 math(EXPR last "${n} - 1")
 foreach(i RANGE 0 ${last} 3)

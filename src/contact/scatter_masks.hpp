@@ -7,6 +7,7 @@
 // pass only.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "bodies/body_presence.hpp"
@@ -76,7 +77,11 @@ class ContactScatterMasks {
   // deep inside a grain (most particles at fine cells) the particles scatter only mass, momentum and
   // force. 2-D, fused USL pass only.
   // field_contact: the fused USL pass, with a contact law other than weld between two or more fields.
-  void mark_contact(const Grid<D>& g, int nf, bool field_contact) {
+  // `seen_lo`, `seen_hi`: the node lines (x) whose masses are complete here (a rank of a decomposed
+  // run sees only its own); a node beyond them is taken as a candidate, which makes more particles
+  // scatter the contact's data and changes no sum the contact reads (ContactMask tests).
+  void mark_contact(const Grid<D>& g, int nf, bool field_contact, long seen_lo = 0,
+                    long seen_hi = std::numeric_limits<long>::max()) {
     contact_bases_valid_ = false;
     if constexpr (D == 2) {
       if (!field_contact || nf < 2 || nf > 64) return;
@@ -88,7 +93,8 @@ class ContactScatterMasks {
         std::uint64_t b = 0;
         for (int f = 0; f < nf; ++f)
           if (g.mass[g.at(f, i)] > 0.0) b |= std::uint64_t{1} << f;
-        bits[i] = b;
+        const long x = i % nx;
+        bits[i] = x < seen_lo || x > seen_hi ? ~std::uint64_t{0} : b;
       }
       // candidates: two or more fields within one node (a 3 x 3 OR, then a count)
       std::vector<std::uint8_t>& cand = candidate_;

@@ -39,6 +39,8 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
   if (rank > 0) cuts_.push_back({rank - 1, first_strip * width - 1, first_strip % 2 == 0 ? 0 : 1});
   if (rank < size - 1 && end_strip < strips)
     cuts_.push_back({rank + 1, end_strip * width - 1, (end_strip - 1) % 2 == 0 ? 0 : 1});
+  first_line_ = first_strip == 0 ? 0 : first_strip * width - 1;
+  last_line_ = end_strip >= strips ? grid.n[0] - 1 : end_strip * width + 1;
   for (int k = 0; k < 2; ++k) {
     send_[k].clear();
     recv_[k].clear();
@@ -94,6 +96,13 @@ void StripExchange<D>::after_phase(int phase) {
   if (!req.empty()) MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
   for (std::size_t k = 0; k < cuts_.size(); ++k)
     if (cuts_[k].sends_after != phase) unpack(cuts_[k], recv_[k]);
+}
+
+template <int D>
+double StripExchange<D>::max(double local) {
+  double out = local;
+  MPI_Allreduce(&local, &out, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return out;
 }
 
 template class StripExchange<2>;

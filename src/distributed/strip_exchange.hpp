@@ -26,6 +26,9 @@ class StripExchange final : public ScatterExchange {
   StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips, long first_strip,
                 long end_strip);
   void after_phase(int phase) override;
+  double max(double local) override;
+  long first_line() const override { return first_line_; }
+  long last_line() const override { return last_line_; }
   // doubles one cut's lines hold (every field, every sum), the size of each message
   std::size_t message_doubles() const { return send_[0].size(); }
 
@@ -41,6 +44,7 @@ class StripExchange final : public ScatterExchange {
   Grid<D>& g_;
   LayerSums<D>* layer_;
   std::vector<Cut> cuts_;
+  long first_line_ = 0, last_line_ = 0;
   std::vector<double> send_[2], recv_[2];
 };
 

@@ -16,6 +16,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -129,10 +130,19 @@ void Solver<D>::particle_pass_impl() {
         t_p2g += seconds(c_stress, Clock::now());
       }
     }
+    if (exchange_) exchange_->after_phase(phase);
   }
   const auto wall1 = Clock::now();
   clock_.split_pass(seconds(wall0, wall1), t_g2p, t_stress, t_p2g);
   bins_.collect_strays(strays);
+  if (exchange_) {
+    refuse_strays_if_decomposed();
+    // every rank decides as one: a full P2G again (a collective pass), or a stop
+    moved = exchange_->max(moved);
+    const bool bad = bad_v != kNone || bad_s != kNone;
+    if (exchange_->max(bad ? 1.0 : 0.0) > 0.0 && !bad)
+      throw InstabilityError(fmt::format("step {}: another rank of the run stopped (its message says why)", steps_));
+  }
   for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
   clock_.add(Stage::p2g, seconds(wall1, Clock::now()));
   left_grid_ = left;
@@ -150,6 +160,7 @@ void Solver<D>::particle_pass_impl() {
     throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity", steps_, bad_v,
                                        sc_.material_names[P.material[bad_v]]));
   if (bad_s != kNone) stop_on_bad_stress(bad_s);
+  if (exchange_) vmax_ = exchange_->max(vmax_);  // after the stops: a stopping rank takes no collective
   double cmax = 0;
   for (std::size_t c = 0; c < results.size(); ++c) {
     const auto& r = results[c];
@@ -158,7 +169,7 @@ void Solver<D>::particle_pass_impl() {
     for (std::size_t m = 0; m < nm; ++m) dissipated_material_[m] += chunk_dissipated[c * nm + m];
     cmax = std::max(cmax, r.max_wave_speed);
   }
-  cmax_ = cmax;
+  cmax_ = exchange_ ? exchange_->max(cmax) : cmax;
 }
 
 template void Solver<2>::g2p_update_p2g();

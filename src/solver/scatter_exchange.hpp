@@ -12,6 +12,12 @@ class ScatterExchange {
  public:
   virtual ~ScatterExchange() = default;
   virtual void after_phase(int phase) = 0;
+  // the largest of every rank's `local` (exact in any order): the time step's speeds, whether a
+  // particle jumped a cell, whether any rank must stop
+  virtual double max(double local) = 0;
+  // the node lines (x index, inclusive) whose sums this rank completes: its particles reach no other
+  virtual long first_line() const = 0;
+  virtual long last_line() const = 0;
 };
 
 }  // namespace pbx

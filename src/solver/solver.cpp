@@ -100,6 +100,15 @@ void Solver<D>::locate_particles() {
   bins_.collect_strays(count);
 }
 
+// A stray's scatter in a decomposed run needs the stray zones' exchange (docs/architecture.md,
+// "One run over many ranks", item 4), not built yet: every rank stops together.
+template <int D>
+void Solver<D>::refuse_strays_if_decomposed() {
+  if (exchange_ && exchange_->max(bins_.strays.empty() ? 0.0 : 1.0) > 0.0)
+    throw std::logic_error(fmt::format(
+        "step {}: a particle left its home strip in a run decomposed over ranks (strays: not built yet)", steps_));
+}
+
 template <int D>
 double Solver<D>::stable_time_step() const {
   // a rigid body (the punch) must not cross a cell in a step either: its final speed counts like
@@ -113,9 +122,8 @@ double Solver<D>::stable_time_step() const {
 // ------------------------------------------------------------------------------------- the step
 template <int D>
 void Solver<D>::step(double max_dt) {
-  if (exchange_)
-    throw std::logic_error(
-        "Solver::step: a run decomposed over ranks cannot step yet (issue 28: only its first P2G is built)");
+  if (exchange_ && sc_.settings.integrator != Integrator::usl)
+    throw std::logic_error("Solver::step: a run decomposed over ranks steps with USL only (issue 28)");
   dt_ = std::min(stable_time_step(), max_dt);
   rigid_p2g();
   switch (sc_.settings.integrator) {
@@ -252,8 +260,7 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
     }
     if (exchange_) exchange_->after_phase(phase);
   }
-  if (exchange_ && !bins_.strays.empty())
-    throw std::logic_error("Solver::p2g: strays in a run decomposed over ranks (their exchange is not built yet)");
+  refuse_strays_if_decomposed();
   for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
 }
 
@@ -286,7 +293,12 @@ void Solver<D>::mark_offset_bases() {
 template <int D>
 void Solver<D>::mark_contact_bases() {
   const bool usl = sc_.settings.integrator == Integrator::usl;
-  masks_.mark_contact(sc_.grid, sc_.deformable_fields, usl && sc_.contact.fields >= 2 && !sc_.contact.all_weld());
+  const bool field_contact = usl && sc_.contact.fields >= 2 && !sc_.contact.all_weld();
+  if (exchange_)
+    masks_.mark_contact(sc_.grid, sc_.deformable_fields, field_contact, exchange_->first_line(),
+                        exchange_->last_line());
+  else
+    masks_.mark_contact(sc_.grid, sc_.deformable_fields, field_contact);
 }
 
 template <int D>
@@ -385,7 +397,9 @@ void Solver<D>::spring_impulses_impl() {
   const long nn = g.nodes();
   const std::vector<std::uint8_t>& spring_node = springs_.node;  // flagged by field_contact
   const std::vector<Vec<D>>& imp = springs_.impulse;
-  if (std::find(spring_node.begin(), spring_node.end(), std::uint8_t{1}) == spring_node.end()) return;
+  const bool any = std::find(spring_node.begin(), spring_node.end(), std::uint8_t{1}) != spring_node.end();
+  // a decomposed run's ranks take the pass together (its exchange), if a spring acts on any of them
+  if (!(exchange_ ? exchange_->max(any ? 1.0 : 0.0) > 0.0 : any)) return;
   auto hand = [&](std::size_t p) {
     const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
     const long off = static_cast<long>(P.field[p]) * nn;
@@ -412,7 +426,9 @@ void Solver<D>::spring_impulses_impl() {
       for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
         if (!bins_.stray[static_cast<std::size_t>(p)]) hand(static_cast<std::size_t>(p));
     }
+    if (exchange_) exchange_->after_phase(phase);
   }
+  refuse_strays_if_decomposed();
   for (const std::uint32_t p : bins_.strays) hand(p);
   // leave the buffers zero for the next pass (only the flagged nodes were written)
   const long nf = sc_.deformable_fields;

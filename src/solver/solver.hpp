@@ -96,9 +96,15 @@ class Solver {
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
   // A decomposed run (issue 28; docs/architecture.md, "One run over many ranks"): the exchange
-  // that completes the nodal sums of the shared node lines between the scatter's parity phases.
-  // Built so far: the stand-alone P2G (p2g) with no strays; step() refuses to run with one set.
-  void set_scatter_exchange(ScatterExchange* exchange) { exchange_ = exchange; }
+  // that completes the nodal sums of the shared node lines between the scatter's parity phases,
+  // and the mass threshold of the whole scene (a sum over every particle, which no rank holds).
+  // Built so far: the USL step without strays (a stray stops the step); the run's sums (energies,
+  // reactions) are this rank's own.
+  void set_scatter_exchange(ScatterExchange* exchange, double mass_threshold) {
+    exchange_ = exchange;
+    mass_eps_ = mass_threshold;
+  }
+  double mass_threshold() const { return mass_eps_; }
   // Where the strips of the scene begin in storage order (strip s: [strip_begin()[s],
   // strip_begin()[s + 1])) and how wide they are, for a partition of the run over ranks.
   const std::vector<long>& strip_begin() const { return bins_.begin; }
@@ -141,6 +147,7 @@ class Solver {
   void keep_contact_velocities();
   Scatter<D> scatter(bool mass_momentum, bool forces);
   void setup_strips();
+  void refuse_strays_if_decomposed();
   void locate_particles();
 
   Scene<D>& sc_;
