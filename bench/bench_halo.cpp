@@ -1,6 +1,6 @@
 // The measurements behind the scaling model of a decomposition of one run over MPI ranks (issue 28;
-// docs/performance/engine.md, "A scaling model for one run over many ranks"). Nothing here
-// decomposes a run: it measures what a decomposition would have to move and what moving it costs.
+// docs/performance/engine.md, "A scaling model for one run over many ranks"): what a decomposition
+// moves, what moving it costs, and the decomposed step as far as it is built.
 //  1. Halo census, on the paper specimen (examples/paper/base.toml, 293 K, phi = 0.08, seed 1) at
 //     each cell size given, stepped `steps` steps: the node-fields holding mass on the three node
 //     lines that two neighbouring domains share across a cut (a particle stencil reaches one node
@@ -65,7 +65,7 @@ std::string read_file(const std::string& file) {
   return ss.str();
 }
 
-Census census(double cell_um, int steps, int timed) {
+Scene<2> specimen_scene(double cell_um) {
   const std::string dir = PBXMPM_SOURCE_DIR "/examples/paper";
   const std::string file = dir + "/base.toml";
   const std::vector<DeckOverride> set = {{"grid.cell_size", fmt::format("\"{} um\"", cell_um)},
@@ -73,7 +73,11 @@ Census census(double cell_um, int steps, int timed) {
                                          {"run.temperature", "\"293 K\""},
                                          {"specimen.seed", "1"}};
   Deck deck = Deck::from_string(deck_with_overrides(read_file(file), file, set), file, dir);
-  Scene<2> sc = build_scene<2>(deck, SceneNotes::quiet);
+  return build_scene<2>(deck, SceneNotes::quiet);
+}
+
+Census census(double cell_um, int steps, int timed) {
+  Scene<2> sc = specimen_scene(cell_um);
   Solver<2> solver(sc);
   for (int s = 0; s < steps; ++s) solver.step();
   const auto t0 = std::chrono::steady_clock::now();
@@ -123,17 +127,6 @@ Census census(double cell_um, int steps, int timed) {
   return c;
 }
 
-Scene<2> specimen_scene(double cell_um) {
-  const std::string dir = PBXMPM_SOURCE_DIR "/examples/paper";
-  const std::string file = dir + "/base.toml";
-  const std::vector<DeckOverride> set = {{"grid.cell_size", fmt::format("\"{} um\"", cell_um)},
-                                         {"packing.porosity", "0.08"},
-                                         {"run.temperature", "\"293 K\""},
-                                         {"specimen.seed", "1"}};
-  Deck deck = Deck::from_string(deck_with_overrides(read_file(file), file, set), file, dir);
-  return build_scene<2>(deck, SceneNotes::quiet);
-}
-
 // The decomposed USL step as built (docs/architecture.md, "One run over many ranks"): `steps`
 // steps of the specimen after `warmup`, one process (rank 0 alone, the others waiting) against
 // the run split over every rank, wall seconds of each (the slowest rank's).
@@ -157,7 +150,7 @@ void decomposed_step(double cell_um, int warmup, int steps, int rank, int size) 
   MPI_Barrier(MPI_COMM_WORLD);
   Scene<2> whole = specimen_scene(cell_um);
   Solver<2> ref(whole);
-  const std::vector<long>& sb = ref.strip_begin();
+  const std::vector<long>& sb = ref.strips().begin;
   const StripPartition part = partition_strips(sb, size);
   const long first = part.first[static_cast<std::size_t>(rank)], end = part.first[static_cast<std::size_t>(rank) + 1];
   Scene<2> mine = specimen_scene(cell_um);
@@ -167,6 +160,8 @@ void decomposed_step(double cell_um, int warmup, int steps, int rank, int size) 
   StripExchange<2> ex(MPI_COMM_WORLD, mine.grid, &mine.layer_data.sums, ref.strips().width, ref.strips().strips, first,
                       end);
   local.set_scatter_exchange(&ex, ref.mass_threshold());
+  long doubles = static_cast<long>(ex.message_doubles()), max_doubles = 0;
+  MPI_Allreduce(&doubles, &max_doubles, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
   for (int k = 0; k < warmup; ++k) local.step();
   local.stage_clock().clear();
   MPI_Barrier(MPI_COMM_WORLD);
@@ -186,25 +181,25 @@ void decomposed_step(double cell_um, int warmup, int steps, int rank, int size) 
     std::printf(
         "  %5.1f um, %ld particles, steps %d-%d: one process %.3f s (%.3g particle-updates/s); %d ranks %.3f s "
         "(%.3g /s); speed-up %.2f, efficiency %.0f %% (the largest rank holds %ld particles, %.0f %% of an even "
-        "share)\n",
+        "share); the built exchange's message %.1f kB (every entry of the three lines)\n",
         cell_um, np, warmup, warmup + steps, t_one, np * steps / t_one, size, t, np * steps / t, t_one / t,
-        100 * t_one / (size * t), max_n, 100.0 * max_n * size / np);
+        100 * t_one / (size * t), max_n, 100.0 * max_n * size / np, 8e-3 * static_cast<double>(max_doubles));
 }
 
-// One-way time of a both-ways exchange of `bytes` between ranks 0 and 1, best of 3 rounds.
-double exchange_seconds(long bytes, int rank) {
+// One-way time of a both-ways exchange of `bytes` between ranks 0 and 1 (`pair`), best of 3 rounds.
+double exchange_seconds(long bytes, int rank, MPI_Comm pair) {
   std::vector<char> out(static_cast<std::size_t>(std::max(1L, bytes)), 1), in(out.size());
   const int peer = 1 - rank;
   const int reps = bytes < 65536 ? 2000 : bytes < 4194304 ? 100 : 10;
   double best = 1e30;
   for (int round = 0; round < 3; ++round) {
-    MPI_Barrier(MPI_COMM_WORLD);
+    MPI_Barrier(pair);
     const double t0 = MPI_Wtime();
     for (int r = 0; r < reps; ++r)
       MPI_Sendrecv(out.data(), static_cast<int>(bytes), MPI_BYTE, peer, 7, in.data(), static_cast<int>(bytes), MPI_BYTE,
-                   peer, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                   peer, 7, pair, MPI_STATUS_IGNORE);
     double t = (MPI_Wtime() - t0) / reps;
-    MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPI_DOUBLE, MPI_MAX, pair);
     best = std::min(best, t);
   }
   return best;
@@ -332,13 +327,14 @@ int main(int argc, char** argv) {
       }
     }
     double alpha = 0.5e-6, beta = 5e9;  // replaced by the measured values with 2 ranks
+    // ranks 0 and 1 time the exchanges between them; the others wait
+    MPI_Comm pair = MPI_COMM_NULL;
+    if (size >= 2) MPI_Comm_split(MPI_COMM_WORLD, rank < 2 ? 0 : MPI_UNDEFINED, rank, &pair);
     if (size >= 2 && rank < 2) {
-      MPI_Comm pair;
-      MPI_Comm_split(MPI_COMM_WORLD, 0, rank, &pair);
       std::vector<long> sizes;
       for (long b = 8; b <= 16L << 20; b *= 4) sizes.push_back(b);
       std::vector<double> t;
-      for (long b : sizes) t.push_back(exchange_seconds(b, rank));
+      for (long b : sizes) t.push_back(exchange_seconds(b, rank, pair));
       Eigen::MatrixXd A(static_cast<Eigen::Index>(sizes.size()), 2);
       Eigen::VectorXd y(A.rows());
       for (Eigen::Index k = 0; k < A.rows(); ++k) {
@@ -359,11 +355,9 @@ int main(int argc, char** argv) {
                       (alpha + static_cast<double>(sizes[k]) / beta) * 1e6);
         std::printf("  fit: alpha %.2f us, beta %.2f GB/s\n", alpha * 1e6, beta * 1e-9);
       }
-      MPI_Comm_free(&pair);
-    } else if (size >= 2) {
-      MPI_Comm pair;
-      MPI_Comm_split(MPI_COMM_WORLD, MPI_UNDEFINED, rank, &pair);
     }
+    MPI_Bcast(&alpha, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    MPI_Bcast(&beta, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     // each census's own halo, timed: x-slab cut (3 columns) of the specimen
     long n_cs = static_cast<long>(cs.size());
     MPI_Bcast(&n_cs, 1, MPI_LONG, 0, MPI_COMM_WORLD);
@@ -377,7 +371,8 @@ int main(int argc, char** argv) {
       if (rank == 0)
         std::printf("\nThe specimen's own halo (one x-cut between two slabs), exchanged between 2 ranks\n");
       for (long k = 0; k < n_cs; ++k) {
-        const double t = rank < 2 ? exchange_seconds(static_cast<long>(halo[static_cast<std::size_t>(k)]), rank) : 0;
+        const double t =
+            rank < 2 ? exchange_seconds(static_cast<long>(halo[static_cast<std::size_t>(k)]), rank, pair) : 0;
         if (rank == 0) {
           const Census& c = cs[static_cast<std::size_t>(k)];
           const Model here{alpha, beta};
@@ -404,6 +399,7 @@ int main(int argc, char** argv) {
       if (size >= 2) print_predictions(ref, Model{alpha, beta}, "this machine, shared memory");
       print_predictions(ref, Model{alpha_us * 1e-6, beta_gb * 1e9}, "a cluster network");
     }
+    if (pair != MPI_COMM_NULL) MPI_Comm_free(&pair);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_halo: %s\n", e.what());
     code = 1;

@@ -43,18 +43,6 @@ Deck deck_from_file_with(const std::string& file, const std::vector<std::string>
                            std::filesystem::path(file).parent_path().string());
 }
 
-// The ranks an MPI launcher started this process among (Open MPI's mpirun, a PMI launcher such as
-// MPICH's or Slurm's srun), 1 when none did. Read from the launcher's environment, so a plain run
-// needs no MPI runtime.
-int launched_ranks() {
-  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
-    if (const char* v = std::getenv(var)) {
-      const int n = std::atoi(v);
-      if (n > 0) return n;
-    }
-  return 1;
-}
-
 template <int D>
 void check_deck(const std::string& file, Deck& deck) {
   Scene<D> scene = build_scene<D>(deck);

@@ -79,7 +79,8 @@ class ContactScatterMasks {
   // field_contact: the fused USL pass, with a contact law other than weld between two or more fields.
   // `seen_lo`, `seen_hi`: the node lines (x) whose masses are complete here (a rank of a decomposed
   // run sees only its own); a node beyond them is taken as a candidate, which makes more particles
-  // scatter the contact's data and changes no sum the contact reads (ContactMask tests).
+  // scatter the contact's data and changes no sum the contact reads (the masks only ever leave out
+  // particles whose stencil meets no node of two fields; ContactMask.BoundedMarkingMarksAtLeast...).
   void mark_contact(const Grid<D>& g, int nf, bool field_contact, long seen_lo = 0,
                     long seen_hi = std::numeric_limits<long>::max()) {
     contact_bases_valid_ = false;
@@ -93,9 +94,12 @@ class ContactScatterMasks {
         std::uint64_t b = 0;
         for (int f = 0; f < nf; ++f)
           if (g.mass[g.at(f, i)] > 0.0) b |= std::uint64_t{1} << f;
-        const long x = i % nx;
-        bits[i] = x < seen_lo || x > seen_hi ? ~std::uint64_t{0} : b;
+        bits[i] = b;
       }
+      if (seen_lo > 0 || seen_hi < nx - 1)
+        for (long y = 0; y < ny; ++y)
+          for (long x = 0; x < nx; ++x)
+            if (x < seen_lo || x > seen_hi) bits[x + y * nx] = ~std::uint64_t{0};
       // candidates: two or more fields within one node (a 3 x 3 OR, then a count)
       std::vector<std::uint8_t>& cand = candidate_;
       cand.assign(static_cast<std::size_t>(nn), 0);

@@ -1,6 +1,7 @@
 #include "distributed/strip_exchange.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace pbx {
 
@@ -48,6 +49,17 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
     pack(cuts_[k], send_[k]);  // sizes the buffers
     recv_[k].assign(send_[k].size(), 0.0);
+  }
+  // Both sides of every cut must agree on its lines, on who sends first and on the message size:
+  // a partition that is not the same on every rank would otherwise hang in the first exchange.
+  for (std::size_t k = 0; k < cuts_.size(); ++k) {
+    const long mine[3] = {cuts_[k].line0, cuts_[k].sends_after, static_cast<long>(send_[k].size())};
+    long theirs[3] = {};
+    MPI_Sendrecv(mine, 3, MPI_LONG, cuts_[k].peer, 99, theirs, 3, MPI_LONG, cuts_[k].peer, 99, comm, MPI_STATUS_IGNORE);
+    if (theirs[0] != mine[0] || theirs[1] != 1 - mine[1] || theirs[2] != mine[2])
+      throw std::runtime_error("StripExchange: ranks " + std::to_string(rank) + " and " +
+                               std::to_string(cuts_[k].peer) +
+                               " disagree on the cut between them (each must hold its own part of one partition)");
   }
 }
 

@@ -34,7 +34,7 @@ inline StripPartition partition_strips(const std::vector<long>& strip_begin, int
   long s = 0;
   for (int r = 1; r < ranks; ++r) {
     const double target = static_cast<double>(strip_begin.front()) + n * r / ranks;
-    long e = std::max(s + min_strips, 0L);
+    long e = s + min_strips;
     while (e < strips && static_cast<double>(strip_begin[static_cast<std::size_t>(e)]) < target) ++e;
     // leave the ranks after this one their minimum
     e = std::min(e, strips - (ranks - r) * min_strips);

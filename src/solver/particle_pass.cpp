@@ -139,7 +139,8 @@ void Solver<D>::particle_pass_impl() {
     refuse_strays_if_decomposed();
     // every rank decides as one: a full P2G again (a collective pass), or a stop
     moved = exchange_->max(moved);
-    const bool bad = bad_v != kNone || bad_s != kNone;
+    // a particle leaving the grid stops the run at the end of the step (advance_bodies)
+    const bool bad = bad_v != kNone || bad_s != kNone || left != kNone;
     if (exchange_->max(bad ? 1.0 : 0.0) > 0.0 && !bad)
       throw InstabilityError(fmt::format("step {}: another rank of the run stopped (its message says why)", steps_));
   }

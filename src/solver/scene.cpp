@@ -69,10 +69,11 @@ void keep_particle_range(Scene<D>& sc, std::size_t begin, std::size_t end) {
   if (begin > end || end > P.size()) throw std::invalid_argument("keep_particle_range: range outside the particles");
   // each batch is in storage order (order_by_strip), so the kept particles of a material are a
   // contiguous part of its batch, and their history rows the same part of its history
-  for (std::size_t m = 0; m < sc.material_state.size(); ++m) {
-    auto& st = sc.material_state[m];
+  for (const auto& st : sc.material_state)
     if (!std::is_sorted(st.index.begin(), st.index.end()))
       throw std::invalid_argument("keep_particle_range: the scene is not ordered by strip");
+  for (std::size_t m = 0; m < sc.material_state.size(); ++m) {
+    auto& st = sc.material_state[m];
     const std::size_t hs = static_cast<std::size_t>(sc.materials[m]->history_size());
     const auto lo = static_cast<std::size_t>(
         std::lower_bound(st.index.begin(), st.index.end(), static_cast<std::uint32_t>(begin)) - st.index.begin());

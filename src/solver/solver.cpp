@@ -100,6 +100,13 @@ void Solver<D>::locate_particles() {
   bins_.collect_strays(count);
 }
 
+template <int D>
+void Solver<D>::set_scatter_exchange(ScatterExchange* exchange, double mass_threshold) {
+  exchange_ = exchange;
+  mass_eps_ = mass_threshold;
+  if (exchange_) vmax_ = exchange_->max(vmax_);
+}
+
 // A stray's scatter in a decomposed run needs the stray zones' exchange (docs/architecture.md,
 // "One run over many ranks", item 4), not built yet: every rank stops together.
 template <int D>
@@ -397,9 +404,9 @@ void Solver<D>::spring_impulses_impl() {
   const long nn = g.nodes();
   const std::vector<std::uint8_t>& spring_node = springs_.node;  // flagged by field_contact
   const std::vector<Vec<D>>& imp = springs_.impulse;
-  const bool any = std::find(spring_node.begin(), spring_node.end(), std::uint8_t{1}) != spring_node.end();
+  const bool springs = std::find(spring_node.begin(), spring_node.end(), std::uint8_t{1}) != spring_node.end();
   // a decomposed run's ranks take the pass together (its exchange), if a spring acts on any of them
-  if (!(exchange_ ? exchange_->max(any ? 1.0 : 0.0) > 0.0 : any)) return;
+  if (!(exchange_ ? exchange_->max(springs ? 1.0 : 0.0) > 0.0 : springs)) return;
   auto hand = [&](std::size_t p) {
     const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
     const long off = static_cast<long>(P.field[p]) * nn;

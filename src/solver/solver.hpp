@@ -95,19 +95,13 @@ class Solver {
 
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-  // A decomposed run (issue 28; docs/architecture.md, "One run over many ranks"): the exchange
-  // that completes the nodal sums of the shared node lines between the scatter's parity phases,
-  // and the mass threshold of the whole scene (a sum over every particle, which no rank holds).
-  // Built so far: the USL step without strays (a stray stops the step); the run's sums (energies,
-  // reactions) are this rank's own.
-  void set_scatter_exchange(ScatterExchange* exchange, double mass_threshold) {
-    exchange_ = exchange;
-    mass_eps_ = mass_threshold;
-  }
+  // A decomposed run (issue 28; docs/architecture.md, "One run over many ranks", for what is built):
+  // the exchange that completes the nodal sums of the shared node lines between the scatter's
+  // parity phases, and the mass threshold of the whole scene (a sum over every particle, which no
+  // rank holds). Also takes the ranks' largest particle speed, which the first step's size reads.
+  void set_scatter_exchange(ScatterExchange* exchange, double mass_threshold);
   double mass_threshold() const { return mass_eps_; }
-  // Where the strips of the scene begin in storage order (strip s: [strip_begin()[s],
-  // strip_begin()[s + 1])) and how wide they are, for a partition of the run over ranks.
-  const std::vector<long>& strip_begin() const { return bins_.begin; }
+  // The strips (where each begins in storage order, their width), for a partition over ranks.
   const StripBins& strips() const { return bins_; }
 
  private:

@@ -70,6 +70,16 @@ void check_folder_name(const DeckTable& t, const std::string& key, const std::st
 
 bool is_seed_key(const std::string& k) { return k == "specimen.seed" || k == "packing.seed"; }
 
+}  // namespace
+
+int launched_ranks() {
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(var)) return std::max(1, std::atoi(v));
+  return 0;
+}
+
+namespace {
+
 struct Mpi {
   int rank = 0, size = 1;
   bool owns = false;
@@ -78,7 +88,7 @@ struct Mpi {
     int init = 0;
     MPI_Initialized(&init);
     // Only join MPI when launched by mpirun (a plain run needs no MPI runtime at all).
-    if (!init && (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE"))) {
+    if (!init && launched_ranks() > 0) {
       MPI_Init(nullptr, nullptr);
       owns = true;
       init = 1;

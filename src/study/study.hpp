@@ -80,4 +80,9 @@ inline constexpr int kStudyInterrupted = -2;
 // Runs (or resumes) the study; returns the number of runs that failed, or kStudyNotStarted.
 int run_study(const StudySpec& s, const StudyOptions& opt);
 
+// The ranks an MPI launcher started this process among (Open MPI's mpirun, or a PMI launcher such
+// as MPICH's or Slurm's `srun --mpi=pmi2`), read from the launcher's environment so that a plain
+// run needs no MPI runtime; 0 when no launcher started it.
+int launched_ranks();
+
 }  // namespace pbx

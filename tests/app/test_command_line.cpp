@@ -203,7 +203,10 @@ TEST_F(CommandLine, RunStartedOverSeveralMpiRanksIsRefusedBeforeItWrites) {
   const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "demo" / "elastic_block_die.toml").string();
   const std::string out = (dir / "out").string();
   for (const char* launcher : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
-    const Result r = pbx::test::shell(fmt::format("{}=2 {{pbx}} run {} --out {} -q", launcher, deck, out));
+    // a short run, should the refusal ever let it go ahead
+    const Result r = pbx::test::shell(
+        fmt::format("{}=2 {{pbx}} run {} --out {} -q --set run.end_strain=0.003 --set 'grid.cell_size=\"50 um\"'",
+                    launcher, deck, out));
     EXPECT_EQ(r.code, 2) << launcher << "\n" << r.output;
     EXPECT_NE(r.output.find("started as 2 MPI ranks, but one run is one process"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("mpirun -n 2 pbxmpm study"), std::string::npos) << r.output;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "../contact/two_disks_deck.hpp"
+#include "contact/scatter_masks.hpp"
 #include "setup/build_scene.hpp"
 #include "io/deck_override.hpp"
 #include "scene_fixture.hpp"
@@ -115,4 +116,33 @@ TEST(ContactMask, AParticleJumpingACellFallsBackToAFullScatter) {
   });
   EXPECT_EQ(r.mismatches, 0);
   EXPECT_GT(r.contact_entries, 0);
+}
+
+// A rank of a decomposed run sees complete masses only on its own node lines: marking with those
+// bounds takes every node beyond them as a candidate, so it marks every base the unbounded
+// marking does and more, never fewer (a particle left out must meet no node of two fields).
+// Two fields 3 lines apart (x < 6 and x >= 9): no candidate anywhere; seen up to line 7, the
+// nodes beyond are candidates, and so is line 7 (its 3 x 3 neighbourhood reaches line 8).
+TEST(ContactMask, BoundedMarkingMarksAtLeastTheUnboundedBases) {
+  Grid<2> g;
+  g.n = {12, 6};
+  g.h = 1.0;
+  g.allocate(2);
+  for (long y = 0; y < 6; ++y)
+    for (long x = 0; x < 12; ++x) {
+      if (x < 6) g.mass[static_cast<std::size_t>(g.at(0, x + 12 * y))] = 1.0;
+      if (x >= 9) g.mass[static_cast<std::size_t>(g.at(1, x + 12 * y))] = 1.0;
+    }
+  ContactScatterMasks<2> all, bounded;
+  all.mark_contact(g, 2, true);
+  bounded.mark_contact(g, 2, true, 0, 7);
+  ASSERT_NE(all.contact_bases(), nullptr);
+  ASSERT_NE(bounded.contact_bases(), nullptr);
+  for (long y = 0; y < 6; ++y)
+    for (long x = 0; x < 12; ++x) {
+      const long i = x + 12 * y;
+      EXPECT_EQ(all.contact_bases()[i], 0) << x << "," << y;  // the fields never come within a node
+      // a base reaches lines x .. x + 2: marked where that reaches line 7 or beyond
+      EXPECT_EQ(bounded.contact_bases()[i] != 0, x + 2 >= 7) << x << "," << y;
+    }
 }
