@@ -74,6 +74,19 @@ void run_under_mpirun(const std::string& name) {
   }
 }
 
+// MPI for a test's part under mpirun (one test per process): joined here, left at the end.
+struct MpiScope {
+  int rank = 0, size = 1;
+  MpiScope() {
+    MPI_Init(nullptr, nullptr);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+  }
+  ~MpiScope() { MPI_Finalize(); }
+  MpiScope(const MpiScope&) = delete;
+  MpiScope& operator=(const MpiScope&) = delete;
+};
+
 // This rank's part of the paper specimen, its exchange and its solver, beside the whole scene's.
 struct RankRun {
   Scene<2> whole, mine;
@@ -174,10 +187,8 @@ TEST(KeepParticleRange, TheRanksPartsTogetherAreTheWholeScene) {
 // lines; this test would see it.
 TEST(StripExchange, RanksGiveTheOneProcessNodalSumsToTheBit) {
   if (!under_mpirun()) return run_under_mpirun("StripExchange.RanksGiveTheOneProcessNodalSumsToTheBit");
-  MPI_Init(nullptr, nullptr);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MpiScope mpi;
+  const int rank = mpi.rank, size = mpi.size;
   for (const char* kernel : {"ugimp", "bspline2"}) {
     RankRun run(kernel, rank, size);
     run.one.reset_grid();
@@ -221,7 +232,6 @@ TEST(StripExchange, RanksGiveTheOneProcessNodalSumsToTheBit) {
       EXPECT_GT(shared_nonzero, 50) << kernel << ": rank " << rank;
     }
   }
-  MPI_Finalize();
 }
 
 // A few hundred USL steps of the paper specimen from rest (the punch ramp under way, the binder
@@ -231,10 +241,8 @@ TEST(StripExchange, RanksGiveTheOneProcessNodalSumsToTheBit) {
 // decomposed yet and not compared.
 TEST(StripExchange, RanksStepTheOneProcessDynamicsToTheBit) {
   if (!under_mpirun()) return run_under_mpirun("StripExchange.RanksStepTheOneProcessDynamicsToTheBit");
-  MPI_Init(nullptr, nullptr);
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const MpiScope mpi;
+  const int rank = mpi.rank, size = mpi.size;
   {
     RankRun run("ugimp", rank, size);
     const int steps = 400;
@@ -273,5 +281,4 @@ TEST(StripExchange, RanksStepTheOneProcessDynamicsToTheBit) {
       }
     }
   }
-  MPI_Finalize();
 }
