@@ -42,10 +42,6 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
     cuts_.push_back({rank + 1, end_strip * width - 1, (end_strip - 1) % 2 == 0 ? 0 : 1});
   first_line_ = first_strip == 0 ? 0 : first_strip * width - 1;
   last_line_ = end_strip >= strips ? grid.n[0] - 1 : end_strip * width + 1;
-  for (int k = 0; k < 2; ++k) {
-    send_[k].clear();
-    recv_[k].clear();
-  }
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
     pack(cuts_[k], send_[k]);  // sizes the buffers
     recv_[k].assign(send_[k].size(), 0.0);
@@ -63,31 +59,31 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
   }
 }
 
+// Calls f(entry, doubles per entry) for every entry of cut c's three lines, in the order a message
+// carries them (the same order on both sides).
 template <int D>
-void StripExchange<D>::pack(const Cut& c, std::vector<double>& buf) const {
-  buf.clear();
+template <class F>
+void StripExchange<D>::for_each_entry(const Cut& c, F&& f) const {
   const long n0 = g_.n[0], rows = g_.nodes() / n0;
-  for_each_sum(g_, layer_, [&](const double* a, int w) {
-    for (int f = 0; f < g_.deformable; ++f)
+  for_each_sum(g_, layer_, [&](double* a, int w) {
+    for (int fld = 0; fld < g_.deformable; ++fld)
       for (long r = 0; r < rows; ++r)
-        for (long x = c.line0; x < c.line0 + 3; ++x) {
-          const double* e = a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(f, r * n0 + x));
-          buf.insert(buf.end(), e, e + w);
-        }
+        for (long x = c.line0; x < c.line0 + 3; ++x)
+          f(a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(fld, r * n0 + x)), w);
   });
 }
 
 template <int D>
+void StripExchange<D>::pack(const Cut& c, std::vector<double>& buf) const {
+  buf.clear();
+  for_each_entry(c, [&](const double* e, int w) { buf.insert(buf.end(), e, e + w); });
+}
+
+template <int D>
 void StripExchange<D>::unpack(const Cut& c, const std::vector<double>& buf) {
-  const long n0 = g_.n[0], rows = g_.nodes() / n0;
   std::size_t k = 0;
-  for_each_sum(g_, layer_, [&](double* a, int w) {
-    for (int f = 0; f < g_.deformable; ++f)
-      for (long r = 0; r < rows; ++r)
-        for (long x = c.line0; x < c.line0 + 3; ++x) {
-          double* e = a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(f, r * n0 + x));
-          for (int i = 0; i < w; ++i) e[i] = buf[k++];
-        }
+  for_each_entry(c, [&](double* e, int w) {
+    for (int i = 0; i < w; ++i) e[i] = buf[k++];
   });
 }
 

@@ -38,6 +38,8 @@ class StripExchange final : public ScatterExchange {
     long line0;       // first of its three node lines (x index)
     int sends_after;  // the phase after which this rank sends (the one after the other phase, it receives)
   };
+  template <class F>
+  void for_each_entry(const Cut& c, F&& f) const;
   void pack(const Cut& c, std::vector<double>& buf) const;
   void unpack(const Cut& c, const std::vector<double>& buf);
   MPI_Comm comm_;

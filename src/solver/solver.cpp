@@ -301,11 +301,8 @@ template <int D>
 void Solver<D>::mark_contact_bases() {
   const bool usl = sc_.settings.integrator == Integrator::usl;
   const bool field_contact = usl && sc_.contact.fields >= 2 && !sc_.contact.all_weld();
-  if (exchange_)
-    masks_.mark_contact(sc_.grid, sc_.deformable_fields, field_contact, exchange_->first_line(),
-                        exchange_->last_line());
-  else
-    masks_.mark_contact(sc_.grid, sc_.deformable_fields, field_contact);
+  masks_.mark_contact(sc_.grid, sc_.deformable_fields, field_contact, exchange_ ? exchange_->first_line() : 0,
+                      exchange_ ? exchange_->last_line() : std::numeric_limits<long>::max());
 }
 
 template <int D>
