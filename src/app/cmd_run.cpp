@@ -19,6 +19,13 @@
 #include "run/runner.hpp"
 #include "study/study.hpp"
 
+#ifdef PBXMPM_HAVE_MPI
+#include <mpi.h>
+
+#include "distributed/strip_exchange.hpp"
+#include "distributed/strip_partition.hpp"
+#endif
+
 namespace pbx::app {
 
 namespace {
@@ -99,6 +106,111 @@ void run_deck(Deck& deck, const RunArgs& args, const std::string& deck_name, con
                scene.control.snapshots > 0 ? ", snapshots/snapshots.xmf" : "");
 }
 
+#ifdef PBXMPM_HAVE_MPI
+// One run over the ranks mpirun started (issue 28; docs/architecture.md, "One run over many ranks"):
+// every rank builds the whole scene (the same deck, the same seed), the strips are shared out by
+// particle count, each rank keeps its strips' particles and steps them with the parity exchange;
+// rank 0 writes the files. The history is the one-process run's to the bit.
+template <int D>
+void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& deck_name) {
+  int init = 0;
+  MPI_Initialized(&init);
+  if (!init) MPI_Init(nullptr, nullptr);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  int code = 0;
+  try {
+    if (!args.restart.empty())
+      throw InputError("pbxmpm run --restart over several MPI ranks: a run over ranks writes no checkpoint yet");
+    if (args.checkpoint_every > 0)
+      throw InputError(
+          "pbxmpm run --checkpoint-every over several MPI ranks: a run over ranks writes no checkpoint yet "
+          "(run it on one process to checkpoint it)");
+    // every rank builds the same scene; rank 0 says what it noticed
+    Scene<D> scene = build_scene<D>(deck, rank == 0 ? SceneNotes::print : SceneNotes::quiet);
+    deck.check_unused();
+    // the whole scene's strips and mass threshold, before each rank keeps its part
+    std::vector<long> begin;
+    long width = 0, strips = 0;
+    double mass_threshold = 0;
+    {
+      const Solver<D> whole(scene);
+      begin = whole.strips().begin;
+      width = whole.strips().width;
+      strips = whole.strips().strips;
+      mass_threshold = whole.mass_threshold();
+    }
+    // a rank between two others keeps its two stray zones (2 x width + 4 node lines each) apart
+    const long min_strips = size <= 2 ? 1 : (3 * width + 3) / width;
+    if (strips < size * min_strips) {
+      const long most = std::max(strips >= 2 ? 2L : 1L, strips / ((3 * width + 3) / width));
+      throw InputError(
+          fmt::format("pbxmpm run: the grid has {} strips of {} cells along x, too few for {} MPI ranks "
+                      "(a rank takes whole strips, {} or more when it has a neighbour on each side): "
+                      "use at most {} ranks",
+                      strips, width, size, min_strips, most));
+    }
+    const StripPartition part = partition_strips(begin, size, min_strips);
+    const long first = part.first[static_cast<std::size_t>(rank)], end = part.first[static_cast<std::size_t>(rank) + 1];
+    const std::size_t total = scene.particles.size();
+    keep_particle_range(scene, static_cast<std::size_t>(begin[static_cast<std::size_t>(first)]),
+                        static_cast<std::size_t>(begin[static_cast<std::size_t>(end)]));
+    StripExchange<D> exchange(MPI_COMM_WORLD, scene.grid, &scene.layer_data.sums, width, strips, first, end);
+    RunOptions opt = run_options_for(deck, deck_name, args.out);
+    opt.threads = args.threads;
+    opt.progress = !args.quiet && rank == 0;
+    opt.checkpoint_every = 0;
+    opt.checkpoint_wall_s = 0;
+    opt.exchange = &exchange;
+    opt.mass_threshold = mass_threshold;
+    opt.rank = rank;
+    opt.ranks = size;
+    Runner<D> runner(scene, opt);
+    if (rank == 0)
+      fmt::print(stderr, "pbxmpm: {}: {} particles over {} MPI ranks ({} strips), {} deformable fields -> {}\n",
+                 deck_name, total, size, strips, scene.deformable_fields, args.out);
+    const auto t0 = std::chrono::steady_clock::now();
+    runner.run();
+    if (rank == 0)
+      std::fprintf(
+          stderr, "pbxmpm: finished: %ld steps in %.1f s over %d ranks; results in %s (history.csv, run.json%s)\n",
+          runner.solver().step_count(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+          size, args.out.c_str(), scene.control.snapshots > 0 ? ", snapshots/snapshots.xmf" : "");
+  } catch (const InstabilityError& e) {
+    // every rank stops in the same step (the solver's verdicts are collective); the culprit's rank
+    // says why, rank 0 through main
+    if (rank != 0 && std::string(e.what()).find("another rank") == std::string::npos)
+      std::fprintf(stderr, "pbxmpm: rank %d: run stopped, unstable: %s\n", rank, e.what());
+    if (rank == 0) {
+      MPI_Finalize();
+      throw;
+    }
+    code = 3;
+  } catch (const Interrupted& e) {
+    if (rank == 0) {
+      MPI_Finalize();
+      throw;
+    }
+    code = 130;
+  } catch (const std::exception& e) {
+    // an error of one rank (bad input is found by all, an output file only by rank 0): the others
+    // may wait in a collective step, so the whole run is stopped
+    const bool input = dynamic_cast<const InputError*>(&e) != nullptr;
+    const bool output = dynamic_cast<const OutputError*>(&e) != nullptr;
+    std::fprintf(stderr, "pbxmpm: rank %d: %s: %s\n", rank,
+                 input    ? "input error"
+                 : output ? "output error"
+                          : "error",
+                 e.what());
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, input ? 2 : output ? 4 : 1);
+  }
+  MPI_Finalize();
+  if (code != 0) std::exit(code);
+}
+#endif
+
 }  // namespace
 
 void register_run(CLI::App& app) {
@@ -129,12 +241,14 @@ void register_run(CLI::App& app) {
     // Every rank would run the whole deck into the same folder (the second finds it locked and
     // mpirun then stops the first mid-run): one run is one process until a domain decomposition
     // exists (docs/architecture.md, "Parallelism").
-    if (const int ranks = launched_ranks(); ranks > 1)
+    const int ranks = launched_ranks();
+#ifndef PBXMPM_HAVE_MPI
+    if (ranks > 1)
       throw InputError(fmt::format(
-          "pbxmpm run: started as {} MPI ranks, but one run is one process: it does not yet split over ranks. "
-          "Use its OpenMP threads (pbxmpm run --threads N, or OMP_NUM_THREADS), or spread the runs of a sweep "
-          "over ranks with `mpirun -n {} pbxmpm study STUDY.toml`",
-          ranks, ranks));
+          "pbxmpm run: started as {} MPI ranks, but this pbxmpm was built without MPI: one run is one process. "
+          "Use its OpenMP threads (pbxmpm run --threads N, or OMP_NUM_THREADS)",
+          ranks));
+#endif
     if (args->out.empty())
       throw InputError("--out: an empty folder name (an unset shell variable?); give the output folder");
     Deck deck = Deck::from_string("", "");
@@ -175,6 +289,15 @@ void register_run(CLI::App& app) {
     } else {
       deck = deck_from_file_with(args->deck, args->set);
     }
+#ifdef PBXMPM_HAVE_MPI
+    if (ranks > 1) {
+      if (deck_dimension(deck) == 3)
+        run_deck_over_ranks<3>(deck, *args, deck_name);
+      else
+        run_deck_over_ranks<2>(deck, *args, deck_name);
+      return;
+    }
+#endif
     if (deck_dimension(deck) == 3)
       run_deck<3>(deck, *args, deck_name, ck);
     else

@@ -46,6 +46,15 @@ struct ContactTally {
     return *this;
   }
   void clear() { pair.assign(pair.size(), PairImpulse<D>{}); }
+  // every double, for a sum over ranks (core/parallel.hpp)
+  template <class F>
+  void each_double(F&& f) {
+    for (auto& p : pair) {
+      for (int d = 0; d < D; ++d) f(p.on_first[d]);
+      f(p.normal);
+      f(p.shear);
+    }
+  }
 };
 
 // A pair of materials (first <= second by material index) whose fields meet under a law other than

@@ -75,6 +75,12 @@ struct PassSums {
     tally += o.tally;
     return *this;
   }
+  template <class F>
+  void each_double(F&& f) {
+    f(work);
+    f(energy);
+    tally.each_double(f);
+  }
 };
 
 // The pair's law at one node: the laws are plug-ins (contact/node_contact.hpp), the built-in ones
@@ -113,7 +119,7 @@ template <int D>
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally, bool after_update, double* layer_energy, const LayerSums<D>* layer_sums,
-                     SpringImpulses<D>* springs) {
+                     SpringImpulses<D>* springs, const StripBins* strips) {
   if (layer_energy) *layer_energy = 0.0;
   if (deformable < 2) return 0.0;
   // a binder_layer law without the sums its springs read would act as Coulomb without a word
@@ -121,117 +127,115 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
     throw std::logic_error("field_contact: the contact matrix has binder_layer pairs but no layer sums were given");
   const bool layers = cm.has_layers();
   const LayerSums<D>* sums_of_layers = layers ? layer_sums : nullptr;
-  const long nn = grid.nodes();
   const double area = std::pow(grid.h, D - 1);  // contact area of a node (per metre of depth in 2-D)
   const double reach = cm.position_cutoff * grid.h;
   const std::size_t nf = static_cast<std::size_t>(deformable);
   PassSums<D> zero{0.0, 0.0, ContactTally<D>(tally ? deformable : 0)};
 
-  PassSums<D> sums = ordered_reduce(
-      nn, zero,
-      [&](long begin, long end) {
-        PassSums<D> out = zero;
-        double& work = out.work;
-        // Half of the impulse d on field a, booked to the pair (a, partner): both sides of a pair
-        // book the same exchange.
-        auto book = [&](int a, int partner, const Vec<D>& d, double dn_abs, double dt_abs) {
-          if (!tally) return;
-          PairImpulse<D>& p = a < partner ? out.tally.at(a, partner) : out.tally.at(partner, a);
-          p.on_first += a < partner ? Vec<D>(0.5 * d) : Vec<D>(-0.5 * d);
-          p.normal += 0.5 * dn_abs;
-          p.shear += 0.5 * dt_abs;
-        };
-        // The exchange d on field a (sums A) from the rest r (sums R) at node i, by the pair's law.
-        Vec<D> xi = Vec<D>::Zero();
-        auto exchange = [&](const Side<D>& A, const Side<D>& R, int a, int partner) {
-          return law_exchange<D>(cm(a, partner), cm, A, R, area, dt, reach, xi, layers, after_update, a < partner);
-        };
-        std::vector<int> present;
-        std::vector<Vec<D>> dp(nf);
-        present.reserve(nf);
-        for (long i = begin; i < end; ++i) {
-          present.clear();
-          for (int f = 0; f < deformable; ++f)
-            if (grid.mass[grid.at(f, i)] > mass_eps) present.push_back(f);
-          if (present.size() < 2) continue;
-          const std::size_t np = present.size();
-          bool sprung = false;
+  const StripBins bins_of_grid = strips ? StripBins{} : StripBins::of_grid(grid);
+  const StripBins& bins = strips ? *strips : bins_of_grid;
+  PassSums<D> sums = bins.fold(zero, [&](long s, PassSums<D>& out) {
+    double& work = out.work;
+    // Half of the impulse d on field a, booked to the pair (a, partner): both sides of a pair
+    // book the same exchange.
+    auto book = [&](int a, int partner, const Vec<D>& d, double dn_abs, double dt_abs) {
+      if (!tally) return;
+      PairImpulse<D>& p = a < partner ? out.tally.at(a, partner) : out.tally.at(partner, a);
+      p.on_first += a < partner ? Vec<D>(0.5 * d) : Vec<D>(-0.5 * d);
+      p.normal += 0.5 * dn_abs;
+      p.shear += 0.5 * dt_abs;
+    };
+    // The exchange d on field a (sums A) from the rest r (sums R) at node i, by the pair's law.
+    Vec<D> xi = Vec<D>::Zero();
+    auto exchange = [&](const Side<D>& A, const Side<D>& R, int a, int partner) {
+      return law_exchange<D>(cm(a, partner), cm, A, R, area, dt, reach, xi, layers, after_update, a < partner);
+    };
+    std::vector<int> present;
+    std::vector<Vec<D>> dp(nf);
+    present.reserve(nf);
+    bins.for_each_node_run(grid, s, [&](long begin, long end) {
+      for (long i = begin; i < end; ++i) {
+        present.clear();
+        for (int f = 0; f < deformable; ++f)
+          if (grid.mass[grid.at(f, i)] > mass_eps) present.push_back(f);
+        if (present.size() < 2) continue;
+        const std::size_t np = present.size();
+        bool sprung = false;
 
-          double mtot = 0;
-          for (int a : present) mtot += grid.mass[grid.at(a, i)];
-          xi = grid.position(i) - grid.origin;
+        double mtot = 0;
+        for (int a : present) mtot += grid.mass[grid.at(a, i)];
+        xi = grid.position(i) - grid.origin;
 
-          // At a two-field node the exchange is computed once: every operation on the pair is
-          // antisymmetric in (a, r) (differences, products of two negated factors, the dominant
-          // or average normal), so r's own evaluation gives exactly -d; the own-normal mode is
-          // not antisymmetric and takes the general path. Halves the contact stage on the paper
-          // specimen, where most contact nodes hold two fields; the histories are unchanged to the bit.
-          if (np == 2 && cm.normal != ContactNormal::own) {
-            const int a = present[0], b = present[1];
-            const long ka = grid.at(a, i), kb = grid.at(b, i);
-            Side<D> A, R;
-            A.add(grid, ka, sums_of_layers);
-            R.add(grid, kb, sums_of_layers);
-            const Exchange<D> e = exchange(A, R, a, b);
-            dp[0] = e.acts ? e.d : Vec<D>::Zero();
-            dp[1] = e.acts ? Vec<D>(-e.d) : Vec<D>::Zero();
-            sprung = e.spring;
-            if (e.acts) {
-              for (int side = 0; side < 2; ++side) {
-                const int me = side == 0 ? a : b, other = side == 0 ? b : a;
-                book(me, other, dp[static_cast<std::size_t>(side)], e.dn_abs, e.dt_abs);
-                out.energy += 0.5 * e.energy;
-                work += e.work;
-              }
-            }
-          } else {
-            for (std::size_t ia = 0; ia < np; ++ia) {
-              const int a = present[ia];
-              const long ka = grid.at(a, i);
-              Side<D> A;
-              A.add(grid, ka, sums_of_layers);
-              // The rest r: every other field at the node, summed explicitly (not P - p_a) so that a
-              // two-field node gets exactly opposite impulses.
-              Side<D> R;
-              int partner = -1;
-              double mpartner = -1;
-              for (std::size_t ib = 0; ib < np; ++ib) {
-                const int b = present[ib];
-                if (b == a) continue;
-                const long kb = grid.at(b, i);
-                R.add(grid, kb, sums_of_layers);
-                if (grid.mass[kb] > mpartner) {
-                  mpartner = grid.mass[kb];
-                  partner = b;
-                }
-              }
-              const Exchange<D> e = exchange(A, R, a, partner);
-              dp[ia] = e.acts ? e.d : Vec<D>::Zero();
-              sprung = sprung || e.spring;
-              if (e.acts) {
-                book(a, partner, dp[ia], e.dn_abs, e.dt_abs);
-                out.energy += 0.5 * e.energy;
-                work += e.work;
-              }
+        // At a two-field node the exchange is computed once: every operation on the pair is
+        // antisymmetric in (a, r) (differences, products of two negated factors, the dominant
+        // or average normal), so r's own evaluation gives exactly -d; the own-normal mode is
+        // not antisymmetric and takes the general path. Halves the contact stage on the paper
+        // specimen, where most contact nodes hold two fields; the histories are unchanged to the bit.
+        if (np == 2 && cm.normal != ContactNormal::own) {
+          const int a = present[0], b = present[1];
+          const long ka = grid.at(a, i), kb = grid.at(b, i);
+          Side<D> A, R;
+          A.add(grid, ka, sums_of_layers);
+          R.add(grid, kb, sums_of_layers);
+          const Exchange<D> e = exchange(A, R, a, b);
+          dp[0] = e.acts ? e.d : Vec<D>::Zero();
+          dp[1] = e.acts ? Vec<D>(-e.d) : Vec<D>::Zero();
+          sprung = e.spring;
+          if (e.acts) {
+            for (int side = 0; side < 2; ++side) {
+              const int me = side == 0 ? a : b, other = side == 0 ? b : a;
+              book(me, other, dp[static_cast<std::size_t>(side)], e.dn_abs, e.dt_abs);
+              out.energy += 0.5 * e.energy;
+              work += e.work;
             }
           }
-          // Exact momentum balance at the node (round-off and 3+ field nodes).
-          Vec<D> residual = Vec<D>::Zero();
-          for (std::size_t ia = 0; ia < np; ++ia) residual += dp[ia];
-          // A node where a spring acted hands all its impulses (the Coulomb ones and the balance
-          // too) through the particles: handing only the springs' there (the rest at the node) made
-          // more energy (quick 293 K run: (KE + IE)/W 1.11 / 1.43 at 0.4 / 0.8 % strain against 1.03 / 1.14).
-          const bool route = sprung && springs;
-          if (route) springs->node[static_cast<std::size_t>(i)] = 1;  // node i belongs to this chunk alone
+        } else {
           for (std::size_t ia = 0; ia < np; ++ia) {
-            const long ka = grid.at(present[ia], i);
-            (route ? springs->impulse[static_cast<std::size_t>(ka)] : grid.mom[ka]) +=
-                dp[ia] - (grid.mass[ka] / mtot) * residual;
+            const int a = present[ia];
+            const long ka = grid.at(a, i);
+            Side<D> A;
+            A.add(grid, ka, sums_of_layers);
+            // The rest r: every other field at the node, summed explicitly (not P - p_a) so that a
+            // two-field node gets exactly opposite impulses.
+            Side<D> R;
+            int partner = -1;
+            double mpartner = -1;
+            for (std::size_t ib = 0; ib < np; ++ib) {
+              const int b = present[ib];
+              if (b == a) continue;
+              const long kb = grid.at(b, i);
+              R.add(grid, kb, sums_of_layers);
+              if (grid.mass[kb] > mpartner) {
+                mpartner = grid.mass[kb];
+                partner = b;
+              }
+            }
+            const Exchange<D> e = exchange(A, R, a, partner);
+            dp[ia] = e.acts ? e.d : Vec<D>::Zero();
+            sprung = sprung || e.spring;
+            if (e.acts) {
+              book(a, partner, dp[ia], e.dn_abs, e.dt_abs);
+              out.energy += 0.5 * e.energy;
+              work += e.work;
+            }
           }
         }
-        return out;
-      },
-      1024);
+        // Exact momentum balance at the node (round-off and 3+ field nodes).
+        Vec<D> residual = Vec<D>::Zero();
+        for (std::size_t ia = 0; ia < np; ++ia) residual += dp[ia];
+        // A node where a spring acted hands all its impulses (the Coulomb ones and the balance
+        // too) through the particles: handing only the springs' there (the rest at the node) made
+        // more energy (quick 293 K run: (KE + IE)/W 1.11 / 1.43 at 0.4 / 0.8 % strain against 1.03 / 1.14).
+        const bool route = sprung && springs;
+        if (route) springs->node[static_cast<std::size_t>(i)] = 1;  // node i belongs to this chunk alone
+        for (std::size_t ia = 0; ia < np; ++ia) {
+          const long ka = grid.at(present[ia], i);
+          (route ? springs->impulse[static_cast<std::size_t>(ka)] : grid.mom[ka]) +=
+              dp[ia] - (grid.mass[ka] / mtot) * residual;
+        }
+      }
+    });
+  });
   if (tally) *tally += sums.tally;
   if (layer_energy) *layer_energy = sums.energy;
   return sums.work;
@@ -240,8 +244,8 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
 template void weld_fields<2>(Grid<2>&, int, double);
 template void weld_fields<3>(Grid<3>&, int, double);
 template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double, ContactTally<2>*, bool, double*,
-                                 const LayerSums<2>*, SpringImpulses<2>*);
+                                 const LayerSums<2>*, SpringImpulses<2>*, const StripBins*);
 template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double, ContactTally<3>*, bool, double*,
-                                 const LayerSums<3>*, SpringImpulses<3>*);
+                                 const LayerSums<3>*, SpringImpulses<3>*, const StripBins*);
 
 }  // namespace pbx

@@ -15,6 +15,7 @@
 #include "contact/contact_tally.hpp"
 #include "contact/layer_data.hpp"
 #include "grid/grid.hpp"
+#include "grid/strip_bins.hpp"
 
 namespace pbx {
 
@@ -34,6 +35,8 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // With spring_impulses, the impulses of every node where a binder-layer spring acted go there
 // instead of into the momenta, and the node is flagged: the caller hands them through the particles
 // that define the springs' jumps (Solver::spring_impulses_through_particles).
+// The sums (work, energy, tally) are taken strip by strip over `strips` (grid/strip_bins.hpp; null:
+// the grid's strips, all this process's), in a decomposed run over its ranks.
 template <int D>
 struct SpringImpulses {
   std::vector<Vec<D>> impulse;     // per node-field; zero on entry
@@ -49,6 +52,7 @@ struct SpringImpulses {
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr,
-                     const LayerSums<D>* layer_sums = nullptr, SpringImpulses<D>* springs = nullptr);
+                     const LayerSums<D>* layer_sums = nullptr, SpringImpulses<D>* springs = nullptr,
+                     const StripBins* strips = nullptr);
 
 }  // namespace pbx

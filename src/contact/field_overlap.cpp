@@ -30,7 +30,7 @@ double FieldOverlap::default_pixel(const Particles<2>& P) {
   return P.size() ? 0.25 * std::sqrt(v) : 0.0;
 }
 
-double FieldOverlap::area(const Particles<2>& P) {
+double FieldOverlap::area(const Particles<2>& P, const std::function<void(std::vector<std::int32_t>&)>& merge) {
   std::fill(owner_.begin(), owner_.end(), -1);
   const double inv = 1.0 / pixel_;
   long shared = 0;
@@ -72,6 +72,10 @@ double FieldOverlap::area(const Particles<2>& P) {
           row[i] = -2, ++shared;
       }
     }
+  }
+  if (merge) {
+    merge(owner_);
+    shared = static_cast<long>(std::count(owner_.begin(), owner_.end(), std::int32_t{-2}));
   }
   return static_cast<double>(shared) * pixel_ * pixel_;
 }

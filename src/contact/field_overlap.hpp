@@ -11,6 +11,7 @@
 // so a fresh specimen measures zero); the overlap is the area of the pixels whose centres lie in
 // the domains of two or more fields. docs/theory/contact.md.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "grid/grid.hpp"
@@ -24,7 +25,16 @@ class FieldOverlap {
   FieldOverlap(const Grid<2>& g, double pixel);
   // Area (m^2 per m of depth) covered by the domains of two or more fields. Parts of domains
   // outside the grid are not counted.
-  double area(const Particles<2>& P);
+  // With `merge`, the raster of these particles is merged with other processes' (a decomposed run:
+  // merge_owners below) before the shared pixels are counted.
+  double area(const Particles<2>& P, const std::function<void(std::vector<std::int32_t>&)>& merge = {});
+  // A pixel's owner as two rasters together see it (-1 empty, -2 two or more fields, else the field):
+  // commutative and associative, so the merge of any number of rasters in any order.
+  static std::int32_t merge_owners(std::int32_t a, std::int32_t b) {
+    if (a == -1) return b;
+    if (b == -1 || a == b) return a;
+    return -2;
+  }
   double pixel() const { return pixel_; }
   // A quarter of the side of the smallest initial particle domain (sqrt of the least volume0).
   static double default_pixel(const Particles<2>& P);

@@ -13,6 +13,7 @@
 
 #include "bodies/rigid_body.hpp"
 #include "grid/grid.hpp"
+#include "grid/strip_bins.hpp"
 
 namespace pbx {
 
@@ -26,10 +27,11 @@ struct RigidContactResult {
 // Applies the rigid contacts on the momenta `grid.mom` of fields [0, deformable). Returns the
 // impulses per body (to be recorded when the pass changes particle momentum). `body_nodes` lists,
 // ascending, every node where some body is present (grid.presence > 0); the other nodes are not
-// visited. The impulse sums are taken over fixed blocks of nodes in node order, so they do not
-// depend on the list or the thread count.
+// visited. The impulse sums are taken strip by strip over `strips` (grid/strip_bins.hpp; null: the
+// grid's strips, all this process's), so they do not depend on the list, the thread count or, in a
+// decomposed run, the rank count.
 template <int D>
 void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t, double mass_eps,
-                   const std::vector<long>& body_nodes, RigidContactResult<D>& out);
+                   const std::vector<long>& body_nodes, RigidContactResult<D>& out, const StripBins* strips = nullptr);
 
 }  // namespace pbx

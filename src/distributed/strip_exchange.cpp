@@ -1,7 +1,11 @@
 #include "distributed/strip_exchange.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+
+#include "contact/field_overlap.hpp"
 
 namespace pbx {
 
@@ -30,7 +34,7 @@ void for_each_sum(Grid<D>& g, LayerSums<D>* layer, F&& f) {
 template <int D>
 StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips,
                                 long first_strip, long end_strip)
-    : comm_(comm), g_(grid), layer_(layer) {
+    : comm_(comm), g_(grid), layer_(layer), first_strip_(first_strip), end_strip_(end_strip) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -40,10 +44,17 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
   if (rank > 0) cuts_.push_back({rank - 1, first_strip * width - 1, first_strip % 2 == 0 ? 0 : 1});
   if (rank < size - 1 && end_strip < strips)
     cuts_.push_back({rank + 1, end_strip * width - 1, (end_strip - 1) % 2 == 0 ? 0 : 1});
+  for (const Cut& c : cuts_) {
+    const long b = c.line0 + 1;
+    zones_.push_back({c.peer, b, std::max(0L, b - width - 1), std::min(grid.n[0] - 1, b + width + 2), c.peer > rank});
+  }
+  if (zones_.size() == 2 && !(zones_[0].hi < zones_[1].lo))
+    throw std::invalid_argument("StripExchange: rank " + std::to_string(rank) +
+                                " holds too few strips for its two stray zones to stay apart");
   first_line_ = first_strip == 0 ? 0 : first_strip * width - 1;
   last_line_ = end_strip >= strips ? grid.n[0] - 1 : end_strip * width + 1;
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
-    pack(cuts_[k], send_[k]);  // sizes the buffers
+    pack(cuts_[k].line0, cuts_[k].line0 + 2, send_[k]);  // sizes the buffers
     recv_[k].assign(send_[k].size(), 0.0);
   }
   // Both sides of every cut must agree on its lines, on who sends first and on the message size:
@@ -59,32 +70,82 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
   }
 }
 
-// Calls f(entry, doubles per entry) for every entry of cut c's three lines, in the order a message
-// carries them (the same order on both sides).
+// Calls f(entry, doubles per entry) for every entry of node lines [line0, line1], in the order a
+// message carries them (the same order on both sides).
 template <int D>
 template <class F>
-void StripExchange<D>::for_each_entry(const Cut& c, F&& f) const {
+void StripExchange<D>::for_each_entry(long line0, long line1, F&& f) const {
   const long n0 = g_.n[0], rows = g_.nodes() / n0;
   for_each_sum(g_, layer_, [&](double* a, int w) {
     for (int fld = 0; fld < g_.deformable; ++fld)
       for (long r = 0; r < rows; ++r)
-        for (long x = c.line0; x < c.line0 + 3; ++x)
+        for (long x = line0; x <= line1; ++x)
           f(a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(fld, r * n0 + x)), w);
   });
 }
 
 template <int D>
-void StripExchange<D>::pack(const Cut& c, std::vector<double>& buf) const {
+void StripExchange<D>::pack(long line0, long line1, std::vector<double>& buf) const {
   buf.clear();
-  for_each_entry(c, [&](const double* e, int w) { buf.insert(buf.end(), e, e + w); });
+  for_each_entry(line0, line1, [&](const double* e, int w) { buf.insert(buf.end(), e, e + w); });
 }
 
 template <int D>
-void StripExchange<D>::unpack(const Cut& c, const std::vector<double>& buf) {
+void StripExchange<D>::unpack(long line0, long line1, const std::vector<double>& buf) {
   std::size_t k = 0;
-  for_each_entry(c, [&](double* e, int w) {
+  for_each_entry(line0, line1, [&](double* e, int w) {
     for (int i = 0; i < w; ++i) e[i] = buf[k++];
   });
+  if (k != buf.size()) throw std::logic_error("StripExchange: a message of another size than its lines");
+}
+
+template <int D>
+void StripExchange<D>::send_lines(int peer, long line0, long line1, int tag) {
+  std::vector<double> buf;
+  pack(line0, line1, buf);
+  MPI_Send(buf.data(), static_cast<int>(buf.size()), MPI_DOUBLE, peer, tag, comm_);
+}
+
+template <int D>
+void StripExchange<D>::receive_lines(int peer, long line0, long line1, int tag) {
+  std::vector<double> buf;
+  pack(line0, line1, buf);  // sized as the message
+  MPI_Recv(buf.data(), static_cast<int>(buf.size()), MPI_DOUBLE, peer, tag, comm_, MPI_STATUS_IGNORE);
+  unpack(line0, line1, buf);
+}
+
+// The strays' order across ranks. After the parity phases each rank holds its own side of a zone
+// (up to the shared lines b - 1 ... b + 1, which both hold), so first each side of every zone
+// crosses to the other (tag 10). Then the strays go in index order, which is rank order: a rank
+// takes the lower zone as the rank below left it after its strays (tag 11: a chain up the ranks),
+// scatters its own, passes its upper zone up, and takes it back final from above (tag 12: the chain
+// down), passing its lower zone down. The zones of one rank are apart (checked at construction),
+// so a rank's strays meet in its zones only its neighbours' strays.
+template <int D>
+void StripExchange<D>::before_strays() {
+  for (const Zone& z : zones_) {
+    const long mine0 = z.peer_above ? z.lo : z.b + 2, mine1 = z.peer_above ? z.b - 2 : z.hi;
+    const long theirs0 = z.peer_above ? z.b + 2 : z.lo, theirs1 = z.peer_above ? z.hi : z.b - 2;
+    std::vector<double> out, in;
+    pack(mine0, mine1, out);
+    pack(theirs0, theirs1, in);
+    MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, z.peer, 10, in.data(),
+                 static_cast<int>(in.size()), MPI_DOUBLE, z.peer, 10, comm_, MPI_STATUS_IGNORE);
+    unpack(theirs0, theirs1, in);
+  }
+  for (const Zone& z : zones_)
+    if (!z.peer_above) receive_lines(z.peer, z.lo, z.hi, 11);
+}
+
+template <int D>
+void StripExchange<D>::after_strays() {
+  for (const Zone& z : zones_)
+    if (z.peer_above) {
+      send_lines(z.peer, z.lo, z.hi, 11);
+      receive_lines(z.peer, z.lo, z.hi, 12);
+    }
+  for (const Zone& z : zones_)
+    if (!z.peer_above) send_lines(z.peer, z.lo, z.hi, 12);
 }
 
 template <int D>
@@ -94,7 +155,7 @@ void StripExchange<D>::after_phase(int phase) {
     const Cut& c = cuts_[k];
     MPI_Request r;
     if (c.sends_after == phase) {
-      pack(c, send_[k]);
+      pack(c.line0, c.line0 + 2, send_[k]);
       MPI_Isend(send_[k].data(), static_cast<int>(send_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &r);
     } else {
       MPI_Irecv(recv_[k].data(), static_cast<int>(recv_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &r);
@@ -103,7 +164,7 @@ void StripExchange<D>::after_phase(int phase) {
   }
   if (!req.empty()) MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
   for (std::size_t k = 0; k < cuts_.size(); ++k)
-    if (cuts_[k].sends_after != phase) unpack(cuts_[k], recv_[k]);
+    if (cuts_[k].sends_after != phase) unpack(cuts_[k].line0, cuts_[k].line0 + 2, recv_[k]);
 }
 
 template <int D>
@@ -111,6 +172,37 @@ double StripExchange<D>::max(double local) {
   double out = local;
   MPI_Allreduce(&local, &out, 1, MPI_DOUBLE, MPI_MAX, comm_);
   return out;
+}
+
+template <int D>
+std::vector<double> StripExchange<D>::in_rank_order(const std::vector<double>& mine) {
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  const int n = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(size)), offsets(static_cast<std::size_t>(size), 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  for (int r = 1; r < size; ++r)
+    offsets[static_cast<std::size_t>(r)] =
+        offsets[static_cast<std::size_t>(r - 1)] + counts[static_cast<std::size_t>(r - 1)];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm_);
+  return all;
+}
+
+namespace {
+extern "C" void merge_owners_op(void* in, void* inout, int* len, MPI_Datatype*) {
+  const auto* a = static_cast<const std::int32_t*>(in);
+  auto* b = static_cast<std::int32_t*>(inout);
+  for (int i = 0; i < *len; ++i) b[i] = FieldOverlap::merge_owners(a[i], b[i]);
+}
+}  // namespace
+
+template <int D>
+void StripExchange<D>::merge_field_owners(std::vector<std::int32_t>& owner) {
+  MPI_Op op;
+  MPI_Op_create(&merge_owners_op, 1, &op);
+  MPI_Allreduce(MPI_IN_PLACE, owner.data(), static_cast<int>(owner.size()), MPI_INT32_T, op, comm_);
+  MPI_Op_free(&op);
 }
 
 template class StripExchange<2>;

@@ -26,9 +26,15 @@ class StripExchange final : public ScatterExchange {
   StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips, long first_strip,
                 long end_strip);
   void after_phase(int phase) override;
+  void before_strays() override;
+  void after_strays() override;
   double max(double local) override;
   long first_line() const override { return first_line_; }
   long last_line() const override { return last_line_; }
+  long first_strip() const override { return first_strip_; }
+  long end_strip() const override { return end_strip_; }
+  std::vector<double> in_rank_order(const std::vector<double>& mine) override;
+  void merge_field_owners(std::vector<std::int32_t>& owner) override;
   // doubles one cut's lines hold (every field, every sum), the size of each message
   std::size_t message_doubles() const { return send_[0].size(); }
 
@@ -38,15 +44,26 @@ class StripExchange final : public ScatterExchange {
     long line0;       // first of its three node lines (x index)
     int sends_after;  // the phase after which this rank sends (the one after the other phase, it receives)
   };
+  // The stray zone at a cut: node lines [lo, hi] (cut line b - width - 1 to b + width + 2, within
+  // the grid), where the strays of the ranks on both sides may meet.
+  struct Zone {
+    int peer;
+    long b, lo, hi;
+    bool peer_above;
+  };
   template <class F>
-  void for_each_entry(const Cut& c, F&& f) const;
-  void pack(const Cut& c, std::vector<double>& buf) const;
-  void unpack(const Cut& c, const std::vector<double>& buf);
+  void for_each_entry(long line0, long line1, F&& f) const;  // node lines [line0, line1]
+  void pack(long line0, long line1, std::vector<double>& buf) const;
+  void unpack(long line0, long line1, const std::vector<double>& buf);
+  void send_lines(int peer, long line0, long line1, int tag);
+  void receive_lines(int peer, long line0, long line1, int tag);
   MPI_Comm comm_;
   Grid<D>& g_;
   LayerSums<D>* layer_;
   std::vector<Cut> cuts_;
+  std::vector<Zone> zones_;  // the lower cut's first
   long first_line_ = 0, last_line_ = 0;
+  long first_strip_ = 0, end_strip_ = 0;
   std::vector<double> send_[2], recv_[2];
 };
 

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/parallel.hpp"
 #include "grid/domain.hpp"
 #include "grid/grid.hpp"
 
@@ -28,10 +29,49 @@ struct StripBins {
   std::vector<long> begin;            // home range of strip s: [begin[s], begin[s + 1])
   std::vector<std::uint8_t> stray;    // per particle: outside its home strip
   std::vector<std::uint32_t> strays;  // the strays, ascending
+  // The strips whose parts of a sum this process makes: all of them, or a decomposed run's rank's
+  // own, with the gather of the other ranks' parts (fold below).
+  long own_lo = 0, own_hi = 0;
+  PartGather* gather = nullptr;
 
   void setup(long cells_x) {
     width = std::max(3L, cells_x / 32);
-    strips = (cells_x + width - 1) / width;
+    strips = std::max(1L, (cells_x + width - 1) / width);
+    own_lo = 0;
+    own_hi = strips;
+  }
+  // The strips of a grid (its cells along x), all of them this process's.
+  template <int D>
+  static StripBins of_grid(const Grid<D>& g) {
+    StripBins b;
+    b.setup(g.n[0] - 1);
+    return b;
+  }
+
+  // A sum over the grid's nodes or the particles, strip by strip: body(s, part) accumulates strip
+  // s into its part, in storage order, and the parts are summed in strip order (core/parallel.hpp).
+  // Every strip is visited, also another rank's (a node stage must act on the node lines this
+  // rank's particles reach beyond its strips; another rank's strips hold none of its particles),
+  // but only this rank's parts enter the sum, with the other ranks' gathered: the bits of the
+  // one-process sum on any thread and rank count. Strip-major, so that a rank's parts are whole
+  // parts: the node sums were made over 1,024-node blocks in node order before 2026-12-07, which
+  // cut across the strips (x runs fastest in node order).
+  template <class T, class Body>
+  T fold(const T& zero, Body&& body) const {
+    std::vector<T> part(static_cast<std::size_t>(strips), zero);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long s = 0; s < strips; ++s) body(s, part[static_cast<std::size_t>(s)]);
+    std::vector<T> own(part.begin() + own_lo, part.begin() + own_hi);
+    return sum_parts(own, zero, gather);
+  }
+  // Strip s's nodes in node order, as runs f(begin, end) of consecutive node indices: its node
+  // columns (the outer strips to the grid's edges) on every row (every node along the other axes).
+  template <int D, class F>
+  void for_each_node_run(const Grid<D>& g, long s, F&& f) const {
+    const long nx = g.n[0];
+    const long c0 = s == 0 ? 0 : s * width, c1 = s == strips - 1 ? nx : std::min(nx, (s + 1) * width);
+    const long rows = g.nodes() / nx;
+    for (long r = 0; r < rows; ++r) f(r * nx + c0, r * nx + c1);
   }
   // The parity phases of a parallel scatter: phase 0 takes the even strips, phase 1 the odd ones.
   long phase_size(int phase) const { return (strips - phase + 1) / 2; }

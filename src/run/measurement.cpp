@@ -8,9 +8,31 @@
 
 #include <fmt/format.h>
 
-#include "core/parallel.hpp"
-
 namespace pbx {
+
+namespace {
+// The particle sums of a history row, strip by strip (StripBins::fold).
+template <int D>
+struct Sums {
+  double vol = 0, mass = 0, ke = 0, v2max = 0;
+  Sym3 sv;
+  Vec<D> p = Vec<D>::Zero();
+  Sums& operator+=(const Sums& o) {
+    v2max = std::max(v2max, o.v2max);
+    vol += o.vol;
+    mass += o.mass;
+    ke += o.ke;
+    sv += o.sv;
+    p += o.p;
+    return *this;
+  }
+  template <class F>
+  void each_double(F&& f) {
+    for (double* x : {&vol, &mass, &ke, &v2max, &sv.xx, &sv.yy, &sv.zz, &sv.xy, &sv.yz, &sv.zx}) f(*x);
+    for (int d = 0; d < D; ++d) f(p[d]);
+  }
+};
+}  // namespace
 
 template <int D>
 Measurement Runner<D>::measure() {
@@ -25,24 +47,13 @@ Measurement Runner<D>::measure() {
     const Vec<D> f = span > 0 ? Vec<D>(sc_.bodies[b].impulse / span) : Vec<D>::Zero();
     m.body_force[b].assign(f.data(), f.data() + D);
   }
-  struct Sums {
-    double vol = 0, mass = 0, ke = 0, v2max = 0;
-    Sym3 sv;
-    Vec<D> p = Vec<D>::Zero();
-    Sums& operator+=(const Sums& o) {
-      v2max = std::max(v2max, o.v2max);
-      vol += o.vol;
-      mass += o.mass;
-      ke += o.ke;
-      sv += o.sv;
-      p += o.p;
-      return *this;
-    }
-  };
+
   const double fs = sc_.settings.mass_scaling;
-  Sums s = ordered_reduce(static_cast<long>(P.size()), Sums{}, [&](long b, long e) {
-    Sums r;
-    for (long p = b; p < e; ++p) {
+  // strip by strip (StripBins::fold): the same bits on any thread and rank count
+  const StripBins& strips = solver_.strips();
+  Sums<D> s = strips.fold(Sums<D>{}, [&](long strip, Sums<D>& r) {
+    for (long p = strips.begin[static_cast<std::size_t>(strip)]; p < strips.begin[static_cast<std::size_t>(strip + 1)];
+         ++p) {
       r.vol += P.volume[p];
       r.mass += P.mass[p];
       const double v2 = P.v[p].squaredNorm();
@@ -51,7 +62,6 @@ Measurement Runner<D>::measure() {
       r.sv += P.volume[p] * P.stress[p];
       r.p += fs * P.mass[p] * P.v[p];
     }
-    return r;
   });
   m.mass = s.mass;
   m.momentum.assign(s.p.data(), s.p.data() + D);
@@ -98,7 +108,11 @@ Measurement Runner<D>::measure() {
   }
   tally.clear();
   if constexpr (D == 2) {
-    if (overlap_) m.field_overlap.push_back(overlap_->area(P));
+    if (overlap_)
+      m.field_overlap.push_back(
+          opt_.exchange
+              ? overlap_->area(P, [&](std::vector<std::int32_t>& owner) { opt_.exchange->merge_field_owners(owner); })
+              : overlap_->area(P));
   }
   if (sc_.contact.has_layers()) m.layer_energy.push_back(solver_.layer_energy());
   t_last_row_ = t;

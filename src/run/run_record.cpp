@@ -28,19 +28,14 @@ std::string Runner<D>::this_and_earlier_versions() const {
 
 template <int D>
 void Runner<D>::write_run_json(const std::string& status, const std::string& message) const {
-  if (opt_.out_dir.empty()) return;
-  const auto& P = sc_.particles;
+  if (!writer_) return;
   // one reading of the clock for the wall time and its split into stages, so that they add up
   // exactly (a second reading after building the rest of run.json made them disagree by 5 ms on a
   // loaded machine)
   const double now = now_s();
   const double wall = wall_before_ + now - wall_start_;
   const double steps = static_cast<double>(solver_.step_count() - steps_unclocked_);
-  double mass = 0, vol = 0;
-  for (std::size_t p = 0; p < P.size(); ++p) {
-    mass += P.mass[p];
-    vol += P.volume0[p];
-  }
+  const double mass = whole_.mass, vol = whole_.volume0;
   Json specimen;  // null without a die
   if (sc_.die) {
     const double box = sc_.die->volume();
@@ -60,7 +55,7 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
     mats.push_back({{"name", sc_.material_names[m]},
                     {"model", sc_.materials[m]->model()},
                     {"density_kg_m3", sc_.materials[m]->density()},
-                    {"particles", sc_.material_state[m].index.size()}});
+                    {"particles", whole_.by_material[m]}});
   std::size_t rigid = 0;
   for (auto& b : sc_.bodies) rigid += b.x.size();
   // rounded where more digits would only be noise (wall clock, memory)
@@ -80,7 +75,8 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   j["dimension"] = D;
   j["threads"] = omp_get_max_threads();
   j["threads_chosen_by"] = threads_.chosen_by;
-  j["particles"] = P.size();
+  j["particles"] = whole_.particles;
+  j["mpi_ranks"] = opt_.ranks;
   j["rigid_particles"] = rigid;
   j["grid_nodes"] = sc_.grid.nodes();
   j["fields"] = sc_.grid.fields;
@@ -88,8 +84,8 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
   j["time_s"] = solver_.time();
   j["wall_time_s"] = rounded(wall, 4);
   j["restarts"] = restarts_;
-  j["particle_updates_per_s"] = wall > 0 ? rounded(static_cast<double>(P.size()) * steps / wall, 0) : 0.0;
-  j["peak_memory_MB"] = rounded(peak_memory_mb(), 1);
+  j["particle_updates_per_s"] = wall > 0 ? rounded(static_cast<double>(whole_.particles) * steps / wall, 0) : 0.0;
+  j["peak_memory_MB"] = rounded(peak_memory_mb(), 1);  // of rank 0 in a run over several ranks
   {
     // where this segment's wall time went: the step's stages (solver/stage_clock.hpp), and the
     // rest of the run (history rows, field overlap, snapshots, checkpoints, progress)

@@ -78,6 +78,40 @@ RunOptions run_options_for(const Deck& deck, const std::string& deck_name, const
 
 template <int D>
 Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), opt_(std::move(opt)), solver_(scene) {
+  saves_ = !opt_.out_dir.empty();
+  writer_ = saves_ && opt_.rank == 0;
+  if (opt_.exchange) {
+    if (restart) throw InputError("a run over several MPI ranks cannot restart from a checkpoint yet");
+    solver_.set_scatter_exchange(opt_.exchange, opt_.mass_threshold);
+  }
+  {
+    // strip by strip, so that one process and any number of ranks give the same bits
+    const auto& P = sc_.particles;
+    const StripBins& strips = solver_.strips();
+    const std::size_t nm = sc_.materials.size();
+    struct Count {
+      std::vector<double> v;  // particles, mass, initial volume, then particles per material
+      Count& operator+=(const Count& o) {
+        for (std::size_t k = 0; k < v.size(); ++k) v[k] += o.v[k];
+        return *this;
+      }
+      void each_double(const std::function<void(double&)>& f) {
+        for (double& x : v) f(x);
+      }
+    };
+    const Count c = strips.fold(Count{std::vector<double>(3 + nm, 0.0)}, [&](long s, Count& r) {
+      for (long p = strips.begin[static_cast<std::size_t>(s)]; p < strips.begin[static_cast<std::size_t>(s + 1)]; ++p) {
+        r.v[0] += 1;
+        r.v[1] += P.mass[p];
+        r.v[2] += P.volume0[p];
+        r.v[3 + static_cast<std::size_t>(P.material[p])] += 1;
+      }
+    });
+    whole_.particles = static_cast<std::size_t>(c.v[0]);
+    whole_.mass = c.v[1];
+    whole_.volume0 = c.v[2];
+    for (std::size_t m = 0; m < nm; ++m) whole_.by_material.push_back(static_cast<std::size_t>(c.v[3 + m]));
+  }
   threads_ = choose_threads(opt_.threads, sc_.particles.size());
   omp_set_num_threads(threads_.threads);
   if (!threads_.note.empty()) std::fprintf(stderr, "pbxmpm: note: %s\n", threads_.note.c_str());
@@ -118,8 +152,11 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
       for (int d = 0; d < D; ++d) columns_.push_back(fmt::format("contact_{}_f{}_N{}", mp.name, axes[d], per));
   }
   if constexpr (D == 2) {
-    if (sc_.deformable_fields > 1 && sc_.particles.size() > 0) {
-      overlap_.emplace(sc_.grid, FieldOverlap::default_pixel(sc_.particles));
+    if (sc_.deformable_fields > 1 && whole_.particles > 0) {
+      // the pixel from the whole specimen's smallest particle (a rank holds a part of it)
+      const double pixel = FieldOverlap::default_pixel(sc_.particles);
+      overlap_.emplace(sc_.grid,
+                       opt_.exchange ? -opt_.exchange->max(-(sc_.particles.size() ? pixel : HUGE_VAL)) : pixel);
       columns_.push_back("field_overlap_m2_per_m");
     }
   }
@@ -129,7 +166,7 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   for (const auto& name : sc_.material_names) columns_.push_back(fmt::format("dissipated_{}_J{}", name, per));
   columns_.push_back("contact_work_J" + per);
   columns_.push_back("max_particle_speed_m_s");
-  if (!opt_.out_dir.empty()) {
+  if (writer_) {
     lock_ = OutputLock(opt_.out_dir, "run");
     if (!restart) {
       clear_previous_run();
@@ -166,7 +203,7 @@ void Runner<D>::clear_previous_run() const {
 
 template <int D>
 void Runner<D>::write_snapshot() {
-  if (opt_.out_dir.empty()) return;
+  if (!saves_) return;
   const auto& P = sc_.particles;
   SnapshotData s;
   s.time = solver_.time();
@@ -207,7 +244,46 @@ void Runner<D>::write_snapshot() {
     s.plastic_strain[p] =
         hs > 0 ? sc_.materials[m]->plastic_strain(sc_.material_state[m].history.data() + P.slot[p] * hs) : 0.0;
   }
-  snapshots_.write(s);
+  if (opt_.exchange) {
+    // every rank's particles, in rank order: the one-process storage order (18 doubles each; the
+    // integers are exact as doubles)
+    constexpr std::size_t w = 18;
+    std::vector<double> mine;
+    mine.reserve(w * s.count);
+    for (std::size_t p = 0; p < s.count; ++p) {
+      for (int k = 0; k < 3; ++k) mine.push_back(s.position[3 * p + k]);
+      for (int k = 0; k < 3; ++k) mine.push_back(s.velocity[3 * p + k]);
+      for (int k = 0; k < 6; ++k) mine.push_back(s.stress[6 * p + k]);
+      for (double x : {s.pressure[p], s.von_mises[p], s.plastic_strain[p], s.volume[p]}) mine.push_back(x);
+      mine.push_back(static_cast<double>(s.material[p]));
+      mine.push_back(static_cast<double>(s.field[p]));
+    }
+    const std::vector<double> all = opt_.exchange->in_rank_order(mine);
+    if (!writer_) return;
+    const std::size_t n = all.size() / w;
+    SnapshotData a;
+    a.time = s.time;
+    a.dim = s.dim;
+    a.count = n;
+    for (std::size_t p = 0; p < n; ++p) {
+      const double* r = all.data() + w * p;
+      a.position.insert(a.position.end(), r, r + 3);
+      a.velocity.insert(a.velocity.end(), r + 3, r + 6);
+      a.stress.insert(a.stress.end(), r + 6, r + 12);
+      a.pressure.push_back(r[12]);
+      a.von_mises.push_back(r[13]);
+      a.plastic_strain.push_back(r[14]);
+      a.volume.push_back(r[15]);
+      a.material.push_back(static_cast<int>(r[16]));
+      a.field.push_back(static_cast<int>(r[17]));
+    }
+    a.rigid_count = s.rigid_count;
+    a.rigid_position = std::move(s.rigid_position);
+    a.rigid_body = std::move(s.rigid_body);
+    a.rigid_body_names = std::move(s.rigid_body_names);
+    s = std::move(a);
+  }
+  if (writer_) snapshots_.write(s);
 }
 
 template <int D>
@@ -264,8 +340,10 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
         write_snapshot();
         while (t_end * next_snapshot_ / sc_.control.snapshots <= t) ++next_snapshot_;
       }
-      const bool stop = g_stop_signal.load() != 0;
-      if (stop && !told) {
+      bool stop = g_stop_signal.load() != 0;
+      // a decomposed run's ranks stop together, at a history row (a signal reaches them at different steps)
+      if (opt_.exchange) stop = row && opt_.exchange->max(stop ? 1.0 : 0.0) > 0.0;
+      if (stop && !told && opt_.rank == 0) {
         told = true;
         std::fprintf(stderr,
                      "%spbxmpm: %s received: finishing the run up to its next history row, then saving a "
@@ -274,15 +352,14 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
       }
       // Checkpoints are taken right after a row, where the force accumulators have just been
       // reset: a restart from one continues bit for bit.
-      if (!row || opt_.out_dir.empty()) {
-        if (stop && opt_.out_dir.empty())
-          throw Interrupted("interrupted by a signal (no output folder: nothing saved)");
+      if (!row || !saves_) {
+        if (stop && !saves_) throw Interrupted("interrupted by a signal (no output folder: nothing saved)");
         continue;
       }
       const bool more = solver_.time() < t_end * (1 - 1e-12);
       const bool periodic = (opt_.checkpoint_every > 0 && rows_written_ % opt_.checkpoint_every == 0) ||
                             (opt_.checkpoint_wall_s > 0 && now_s() - last_checkpoint_wall_ >= opt_.checkpoint_wall_s);
-      if (more && (periodic || stop)) {
+      if (more && (periodic || stop) && !opt_.exchange) {
         write_checkpoint(checkpoint_file);
         last_checkpoint_wall_ = now_s();
       }
@@ -316,8 +393,14 @@ template <int D>
 void Runner<D>::stop_interrupted() {
   const auto ckpt = std::filesystem::path(opt_.out_dir) / "checkpoint.h5";
   const std::string msg =
-      fmt::format("interrupted at step {} (t = {:.6g} s, {} history rows); continue with: pbxmpm run --restart {}",
-                  solver_.step_count(), solver_.time(), rows_written_, ckpt.string());
+      opt_.exchange
+          ? fmt::format(
+                "interrupted at step {} (t = {:.6g} s, {} history rows); a run over several MPI ranks "
+                "writes no checkpoint yet: run it again to finish it",
+                solver_.step_count(), solver_.time(), rows_written_)
+          : fmt::format(
+                "interrupted at step {} (t = {:.6g} s, {} history rows); continue with: pbxmpm run --restart {}",
+                solver_.step_count(), solver_.time(), rows_written_, ckpt.string());
   write_run_json("interrupted", msg);
   throw Interrupted(msg);
 }

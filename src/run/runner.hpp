@@ -62,6 +62,13 @@ struct RunOptions {
   // study (this run's ETA plus `runs_after` more runs as long as this one is taking).
   std::string progress_label;
   int runs_after = 0;
+  // A run decomposed over MPI ranks (issue 28; docs/architecture.md, "One run over many ranks"):
+  // this rank's exchange (null: one process) and the whole scene's mass threshold. Every rank takes
+  // every collective step (sums, rows, snapshots); rank 0 alone writes files and shows progress.
+  // Checkpoints are not written yet (a signal stops the run without one).
+  ScatterExchange* exchange = nullptr;
+  double mass_threshold = 0;
+  int rank = 0, ranks = 1;
 };
 
 // The options a run takes from its deck: the validated deck as JSON (run.json), its text and name
@@ -102,9 +109,19 @@ class Runner {
   std::string this_and_earlier_versions() const;  // code versions of all segments, "; "-separated
   void report_progress(const Measurement& m, bool final);
   std::string first_non_finite_particle() const;
+  // The field overlap of the whole specimen (every rank's particles in a decomposed run).
+  double field_overlap_area();
   Scene<D>& sc_;
   RunOptions opt_;
   Solver<D> solver_;
+  // saves_: the run saves files (the same on every rank); writer_: this process writes them
+  bool saves_ = false, writer_ = false;
+  // The whole specimen's particles, their mass and initial volume (run.json), over every rank.
+  struct Whole {
+    std::size_t particles = 0;
+    double mass = 0, volume0 = 0;
+    std::vector<std::size_t> by_material;
+  } whole_;
   OutputLock lock_;  // before the files it guards: released after they are closed
   CsvWriter history_;
   SnapshotWriter snapshots_;

@@ -136,15 +136,21 @@ void Solver<D>::particle_pass_impl() {
   clock_.split_pass(seconds(wall0, wall1), t_g2p, t_stress, t_p2g);
   bins_.collect_strays(strays);
   if (exchange_) {
-    refuse_strays_if_decomposed();
     // every rank decides as one: a full P2G again (a collective pass), or a stop
     moved = exchange_->max(moved);
-    // a particle leaving the grid stops the run at the end of the step (advance_bodies)
+    // Every rank stops here, before any other collective step: the rank of the culprit with its
+    // message (a particle leaving the grid too, which one process reports at the end of the step).
     const bool bad = bad_v != kNone || bad_s != kNone || left != kNone;
-    if (exchange_->max(bad ? 1.0 : 0.0) > 0.0 && !bad)
+    if (exchange_->max(bad ? 1.0 : 0.0) > 0.0) {
+      if (bad_v != kNone)
+        throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity", steps_,
+                                           bad_v, sc_.material_names[P.material[bad_v]]));
+      if (bad_s != kNone) stop_on_bad_stress(bad_s);
+      if (left != kNone) stop_on_left_grid(left);
       throw InstabilityError(fmt::format("step {}: another rank of the run stopped (its message says why)", steps_));
+    }
   }
-  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
+  scatter_strays([&](std::uint32_t p) { scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped)); });
   clock_.add(Stage::p2g, seconds(wall1, Clock::now()));
   left_grid_ = left;
   // A particle that moved a cell or more may have met a field the contact mask did not foresee:
@@ -163,14 +169,24 @@ void Solver<D>::particle_pass_impl() {
   if (bad_s != kNone) stop_on_bad_stress(bad_s);
   if (exchange_) vmax_ = exchange_->max(vmax_);  // after the stops: a stopping rank takes no collective
   double cmax = 0;
-  for (std::size_t c = 0; c < results.size(); ++c) {
-    const auto& r = results[c];
-    internal_ += r.stress_work;
-    dissipated_ += r.dissipated;
-    for (std::size_t m = 0; m < nm; ++m) dissipated_material_[m] += chunk_dissipated[c * nm + m];
-    cmax = std::max(cmax, r.max_wave_speed);
-  }
+  for (const auto& r : results) cmax = std::max(cmax, r.max_wave_speed);
   cmax_ = exchange_ ? exchange_->max(cmax) : cmax;
+  // The chunks' energies in chunk order. A decomposed run's ranks hold contiguous ranges of the
+  // chunks (chunks never straddle strips), so every rank's, in rank order, are the run's in order.
+  std::vector<double> sums;
+  sums.reserve(results.size() * (2 + nm));
+  for (std::size_t c = 0; c < results.size(); ++c) {
+    sums.push_back(results[c].stress_work);
+    sums.push_back(results[c].dissipated);
+    sums.insert(sums.end(), chunk_dissipated.begin() + static_cast<long>(c * nm),
+                chunk_dissipated.begin() + static_cast<long>((c + 1) * nm));
+  }
+  if (exchange_) sums = exchange_->in_rank_order(sums);
+  for (std::size_t k = 0; k < sums.size(); k += 2 + nm) {
+    internal_ += sums[k];
+    dissipated_ += sums[k + 1];
+    for (std::size_t m = 0; m < nm; ++m) dissipated_material_[m] += sums[k + 2 + m];
+  }
 }
 
 template void Solver<2>::g2p_update_p2g();

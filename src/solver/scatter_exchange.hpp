@@ -5,19 +5,36 @@
 // after the odd ones, and the exchange moves the node lines two ranks share so that every node
 // receives its sums in the one-process order. The solver holds a null pointer in a run of one
 // process. An interface (one virtual call per phase, never per particle), so the time step needs
-// no MPI: the implementation lives in src/distributed/.
+// no MPI: the implementation lives in src/distributed/. It is also the reductions' gather of every
+// rank's parts of a sum (core/parallel.hpp): a rank's strips are a contiguous range of them.
+#include <cstdint>
+#include <vector>
+
+#include "core/parallel.hpp"
+
 namespace pbx {
 
-class ScatterExchange {
+class ScatterExchange : public PartGather {
  public:
   virtual ~ScatterExchange() = default;
   virtual void after_phase(int phase) = 0;
+  // Around the strays' serial scatter (taken by every rank when any rank has a stray): before, the
+  // zone of 2 x width + 4 node lines around each cut is completed with the neighbour's sums and
+  // the sums of the lower ranks' strays; after, this rank's strays go on up the ranks and the final
+  // zones come back down. The strays then meet every node in the one-process (index) order.
+  virtual void before_strays() = 0;
+  virtual void after_strays() = 0;
   // the largest of every rank's `local` (exact in any order): the time step's speeds, whether a
   // particle jumped a cell, whether any rank must stop
   virtual double max(double local) = 0;
   // the node lines (x index, inclusive) whose sums this rank completes: its particles reach no other
   virtual long first_line() const = 0;
   virtual long last_line() const = 0;
+  // this rank's strips [first_strip, end_strip)
+  virtual long first_strip() const = 0;
+  virtual long end_strip() const = 0;
+  // The field-overlap raster of every rank merged into each (FieldOverlap::merge_owners per pixel).
+  virtual void merge_field_owners(std::vector<std::int32_t>& owner) = 0;
 };
 
 }  // namespace pbx

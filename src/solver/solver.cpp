@@ -104,16 +104,38 @@ template <int D>
 void Solver<D>::set_scatter_exchange(ScatterExchange* exchange, double mass_threshold) {
   exchange_ = exchange;
   mass_eps_ = mass_threshold;
+  // the sums over nodes and particles take this rank's strips and gather the others' (StripBins::fold)
+  bins_.own_lo = exchange_ ? exchange_->first_strip() : 0;
+  bins_.own_hi = exchange_ ? exchange_->end_strip() : bins_.strips;
+  bins_.gather = exchange_;
   if (exchange_) vmax_ = exchange_->max(vmax_);
 }
 
-// A stray's scatter in a decomposed run needs the stray zones' exchange (docs/architecture.md,
-// "One run over many ranks", item 4), not built yet: every rank stops together.
+// The stray zones of a decomposed run reach one strip beyond a cut (docs/architecture.md, "One
+// run over many ranks", item 4): a stray further from its home strip stops every rank (moving
+// particles between ranks is not built).
 template <int D>
-void Solver<D>::refuse_strays_if_decomposed() {
-  if (exchange_ && exchange_->max(bins_.strays.empty() ? 0.0 : 1.0) > 0.0)
-    throw std::logic_error(fmt::format(
-        "step {}: a particle left its home strip in a run decomposed over ranks (strays: not built yet)", steps_));
+void Solver<D>::refuse_far_strays() {
+  const auto& P = sc_.particles;
+  const double inv_h = 1.0 / sc_.grid.h;
+  std::uint32_t far = kNone;
+  for (const std::uint32_t p : bins_.strays) {
+    const long home =
+        std::upper_bound(bins_.begin.begin(), bins_.begin.end(), static_cast<long>(p)) - bins_.begin.begin() - 1;
+    const long now = bins_.strip_of((P.x[p][0] - sc_.grid.origin[0]) * inv_h);
+    if (std::abs(now - home) > 1) {
+      far = p;
+      break;
+    }
+  }
+  if (exchange_->max(far == kNone ? 0.0 : 1.0) > 0.0)
+    throw std::runtime_error(
+        far == kNone
+            ? fmt::format("step {}: another rank's particle moved beyond the strip next to its home strip", steps_)
+            : fmt::format("step {}: particle {} (material '{}') moved beyond the strip next to its home strip "
+                          "({} cells wide), which a run over several MPI ranks does not follow yet (its "
+                          "particles stay on their rank); run it on one process",
+                          steps_, far, sc_.material_names[P.material[far]], bins_.width));
 }
 
 template <int D>
@@ -267,8 +289,7 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
     }
     if (exchange_) exchange_->after_phase(phase);
   }
-  refuse_strays_if_decomposed();
-  for (const std::uint32_t p : bins_.strays) scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
+  scatter_strays([&](std::uint32_t p) { scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped)); });
 }
 
 template <int D>
@@ -335,7 +356,7 @@ void Solver<D>::contact(bool record, bool after_update) {
     if (smooth) springs_.size_for(static_cast<long>(sc_.deformable_fields) * sc_.grid.nodes(), sc_.grid.nodes());
     const double friction = field_contact<D>(
         sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_, record ? &contact_tally_ : nullptr, after_update,
-        &energy, sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &springs_ : nullptr);
+        &energy, sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &springs_ : nullptr, &bins_);
     if (smooth) spring_impulses_through_particles();
     if (record) dissipated_ += friction, friction_ += friction;
     if (after_update) layer_energy_ = energy;
@@ -432,8 +453,7 @@ void Solver<D>::spring_impulses_impl() {
     }
     if (exchange_) exchange_->after_phase(phase);
   }
-  refuse_strays_if_decomposed();
-  for (const std::uint32_t p : bins_.strays) hand(p);
+  scatter_strays(hand);
   // leave the buffers zero for the next pass (only the flagged nodes were written)
   const long nf = sc_.deformable_fields;
   for (long i = 0; i < nn; ++i) {
@@ -449,7 +469,7 @@ void Solver<D>::rigid_stage(bool record) {
     RigidContactResult<D> r;
     // The bodies' velocity over the step (t_n+1): also in MUSL's unrecorded remap pass, whose
     // momenta carry the end-of-step velocities (it used t_n: a punch lag of up to 1e-4 m/s in the ramp).
-    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, presence_.nodes(), r);
+    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, presence_.nodes(), r, &bins_);
     if (record) {
       for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
         sc_.bodies[b].impulse += r.impulse[b];
@@ -695,22 +715,24 @@ void Solver<D>::advance_bodies() {
   for (auto& b : sc_.bodies)
     if (b.moving()) b.move_to(t_);
   // The positions were checked where they were updated (G2P, the fused pass or the MUSL remap).
+  if (left_grid_ != kNone) stop_on_left_grid(left_grid_);
+}
+
+template <int D>
+void Solver<D>::stop_on_left_grid(std::uint32_t p) const {
   const auto& P = sc_.particles;
-  const std::uint32_t bad = left_grid_;
-  if (bad != kNone)
-    throw InstabilityError(
-        fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m", steps_,
-                    t_, bad, sc_.material_names[P.material[bad]], P.x[bad][0], P.x[bad][1]));
+  throw InstabilityError(
+      fmt::format("step {} (t = {:.6g} s): particle {} of material '{}' left the grid at ({:.6g}, {:.6g}) m", steps_,
+                  t_, p, sc_.material_names[P.material[p]], P.x[p][0], P.x[p][1]));
 }
 
 template <int D>
 double Solver<D>::kinetic_energy() const {
   const auto& P = sc_.particles;
   const double fs = sc_.settings.mass_scaling;
-  return ordered_reduce(static_cast<long>(P.size()), 0.0, [&](long b, long e) {
-    double s = 0;
-    for (long p = b; p < e; ++p) s += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
-    return s;
+  return bins_.fold(0.0, [&](long s, double& e) {
+    for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
+      e += 0.5 * fs * P.mass[p] * P.v[p].squaredNorm();
   });
 }
 

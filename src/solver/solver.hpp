@@ -116,6 +116,7 @@ class Solver {
   // Stops the run on particle p, whose stress update gave J <= 0 or a non-finite stress: the
   // message names the step, the particle, its material and place, and the material's reason.
   [[noreturn]] void stop_on_bad_stress(std::uint32_t p) const;
+  [[noreturn]] void stop_on_left_grid(std::uint32_t p) const;
   // particles per chunk of the fused pass: G2P, stress update and P2G of one chunk run while
   // its particle data are still in the L1/L2 cache
   static constexpr long kPassChunk = 256;
@@ -141,7 +142,21 @@ class Solver {
   void keep_contact_velocities();
   Scatter<D> scatter(bool mass_momentum, bool forces);
   void setup_strips();
-  void refuse_strays_if_decomposed();
+  // The strays' serial scatter, hand(p) per stray in index order; in a decomposed run every rank
+  // takes it with the stray zones' exchange when any rank has a stray.
+  template <class F>
+  void scatter_strays(F&& hand) {
+    if (exchange_) {
+      if (!(exchange_->max(bins_.strays.empty() ? 0.0 : 1.0) > 0.0)) return;
+      refuse_far_strays();
+      exchange_->before_strays();
+      for (const std::uint32_t p : bins_.strays) hand(p);
+      exchange_->after_strays();
+      return;
+    }
+    for (const std::uint32_t p : bins_.strays) hand(p);
+  }
+  void refuse_far_strays();
   void locate_particles();
 
   Scene<D>& sc_;

@@ -237,8 +237,10 @@ TEST(StripExchange, RanksGiveTheOneProcessNodalSumsToTheBit) {
 // A few hundred USL steps of the paper specimen from rest (the punch ramp under way, the binder
 // layers' springs acting) on 2 and 3 ranks: every rank's particles end with the one-process run's
 // positions, velocities, stresses, deformation gradients and history to the bit, and every step
-// took the one-process time step. The sums the history reports (energies, reactions) are not
-// decomposed yet and not compared.
+// took the one-process time step; and every rank holds the one-process run's sums over nodes and
+// particles to the bit (stress work, dissipation and its parts, friction, the springs' energy, the
+// kinetic energy, the rigid bodies' impulses and work, the contact tally): each rank makes the parts
+// of its strips, and the parts are summed in strip order (StripBins::fold).
 TEST(StripExchange, RanksStepTheOneProcessDynamicsToTheBit) {
   if (!under_mpirun()) return run_under_mpirun("StripExchange.RanksStepTheOneProcessDynamicsToTheBit");
   const MpiScope mpi;
@@ -269,6 +271,32 @@ TEST(StripExchange, RanksStepTheOneProcessDynamicsToTheBit) {
     double vmax = 0;
     for (const auto& v : B.v) vmax = std::max(vmax, v.norm());
     EXPECT_GT(vmax, 1e-3) << "rank " << rank;
+    // the sums the history reports
+    const auto a = run.one.state(), b = run.local->state();
+    EXPECT_TRUE(same(a.internal, b.internal) && same(a.dissipated, b.dissipated) && same(a.friction, b.friction))
+        << "rank " << rank << ": stress work " << a.internal << " / " << b.internal << ", dissipated " << a.dissipated
+        << " / " << b.dissipated << ", friction " << a.friction << " / " << b.friction;
+    EXPECT_EQ(a.dissipated_by_material, b.dissipated_by_material) << "rank " << rank;
+    EXPECT_GT(a.friction, 0.0);  // the contact sums are not all zero
+    const double ke_a = run.one.kinetic_energy(), ke_b = run.local->kinetic_energy();
+    const double le_a = run.one.layer_energy(), le_b = run.local->layer_energy();
+    EXPECT_TRUE(same(ke_a, ke_b) && same(le_a, le_b))
+        << "rank " << rank << ": kinetic " << ke_a << " / " << ke_b << ", springs " << le_a << " / " << le_b;
+    EXPECT_GT(le_a, 0.0);
+    for (std::size_t k = 0; k < run.whole.bodies.size(); ++k) {
+      const auto &ba = run.whole.bodies[k], &bb = run.mine.bodies[k];
+      EXPECT_TRUE(same(ba.impulse, bb.impulse) && same(ba.work, bb.work))
+          << "rank " << rank << ", body " << k << ": impulse " << ba.impulse.transpose() << " / "
+          << bb.impulse.transpose();
+    }
+    EXPECT_GT(run.whole.bodies.at(0).impulse.norm(), 0.0);
+    const auto &ta = run.one.contact_tally().pair, &tb = run.local->contact_tally().pair;
+    ASSERT_EQ(ta.size(), tb.size());
+    long pairs_differ = 0;
+    for (std::size_t k = 0; k < ta.size(); ++k)
+      pairs_differ +=
+          !(same(ta[k].on_first, tb[k].on_first) && same(ta[k].normal, tb[k].normal) && same(ta[k].shear, tb[k].shear));
+    EXPECT_EQ(pairs_differ, 0) << "rank " << rank << ": pairs of fields whose contact impulses differ";
     // history rows (plastic strain, Prony internal variables) of this rank's particles
     for (std::size_t m = 0; m < run.mine.material_state.size(); ++m) {
       const std::size_t hs = static_cast<std::size_t>(run.mine.materials[m]->history_size());

@@ -3,6 +3,7 @@
 // internal forces at the nodes sum to zero (partition of unity) and FLIP/PIC transfers conserve
 // momentum.
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -43,7 +44,10 @@ integrator = ")") + integ + "\"\n" +
       EXPECT_NEAR(m.momentum[0], px0, 1e-12 * pnorm) << integ;
       EXPECT_NEAR(m.momentum[1], py0, 1e-12 * pnorm) << integ;
     }
-    EXPECT_NEAR(rows.front().mass, m0, 1e-15 * m0);
+    // the history sums strip by strip, m0 in one run: both within the rounding bound of a sum of
+    // positive terms in any order, (n - 1) u sum
+    const double u = 0.5 * std::numeric_limits<double>::epsilon();
+    EXPECT_NEAR(rows.front().mass, m0, static_cast<double>(sc.particles.size() - 1) * u * m0);
     EXPECT_GT(rows.back().internal, 0.0);  // it did deform
   }
 }

@@ -1,0 +1,131 @@
+// `mpirun -n N pbxmpm run DECK` (issue 28): one run split over ranks writes the one-process run's
+// history.csv byte for byte, with particles leaving their home strips (the strays' zone exchange),
+// contact between fields across the cut between ranks, and every sum of the history (reactions,
+// energies, contact forces, field overlap) taken strip by strip over the ranks.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;
+};
+
+Result shell(const std::string& line) {
+  FILE* p = popen((line + " 2>&1").c_str(), "r");
+  Result r;
+  if (!p) return r;
+  char buf[4096];
+  std::size_t k;
+  while ((k = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, k);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string read(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Two elastic disks on two fields flying at each other along x at 20 m/s each and colliding under
+// Coulomb friction, 10 um cells: strips 3 cells wide, so in 1.5 us (1.5 cells of travel) a third
+// of the particles leave their home strip, within the next one. The disks meet at x = 0.2 mm,
+// where the strips are cut between 2 ranks (the particles split evenly).
+std::string colliding_disks_deck() {
+  return R"(# two disks colliding head-on (units in the values)
+[run]
+end_time = "1.5 us"
+history_points = 40
+snapshots = 1
+[grid]
+cell_size = "10 um"
+min = ["0 mm", "0 mm"]
+max = ["0.4 mm", "0.2 mm"]
+[contact]
+default = "coulomb"
+friction = 0.3
+[materials.left]
+model = "linear_elastic"
+density = "1.9 g/cm3"
+youngs_modulus = "2 GPa"
+poisson_ratio = 0.3
+[materials.right]
+model = "linear_elastic"
+density = "1.9 g/cm3"
+youngs_modulus = "3 GPa"
+poisson_ratio = 0.3
+[[geometry]]
+shape = "disk"
+center = ["0.135 mm", "0.105 mm"]
+radius = "0.06 mm"
+material = "left"
+velocity = ["20 m/s", "3 m/s"]
+[[geometry]]
+shape = "disk"
+center = ["0.265 mm", "0.095 mm"]
+radius = "0.06 mm"
+material = "right"
+velocity = ["-20 m/s", "0 m/s"]
+)";
+}
+
+}  // namespace
+
+TEST(RunOverRanks, MpirunGivesTheOneProcessHistoryByteForByte) {
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_{}", ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path deck = dir / "disks.toml";
+  std::ofstream(deck) << colliding_disks_deck();
+  const Result one = shell(
+      fmt::format("OMP_NUM_THREADS=1 {} run {} --out {} -q", PBXMPM_BINARY, deck.string(), (dir / "one").string()));
+  ASSERT_EQ(one.code, 0) << one.output;
+  const std::string history = read(dir / "one" / "history.csv");
+  ASSERT_GT(history.size(), 1000u);
+  for (int n : {2, 3}) {
+    const fs::path out = dir / fmt::format("ranks{}", n);
+    const Result r = shell(fmt::format(
+        "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n {} {} run {} "
+        "--out {} -q",
+        n, PBXMPM_BINARY, deck.string(), out.string()));
+    ASSERT_EQ(r.code, 0) << n << " ranks:\n" << r.output;
+    EXPECT_TRUE(read(out / "history.csv") == history) << n << " ranks: history.csv differs from one process's";
+    // rank 0 wrote the files: run.json counts the whole specimen and the ranks
+    const std::string run = read(out / "run.json");
+    EXPECT_NE(run.find(fmt::format("\"mpi_ranks\": {}", n)), std::string::npos) << run.substr(0, 400);
+    EXPECT_TRUE(fs::exists(out / "snapshots" / "snap_0001.h5"));
+  }
+  fs::remove_all(dir);
+}
+
+// Bad partitions are refused before the run, every rank with the same message.
+TEST(RunOverRanks, MoreRanksThanTheGridAllowsAreRefused) {
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_refused_{}", ::getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path deck = dir / "disks.toml";
+  std::ofstream(deck) << colliding_disks_deck();
+  // 40 cells: 13 strips of 3, and a rank between two others needs 4 strips for its stray zones
+  const Result r = shell(fmt::format(
+      "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n 5 {} run {} "
+      "--out {} -q",
+      PBXMPM_BINARY, deck.string(), (dir / "five").string()));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("too few for 5 MPI ranks"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "five" / "history.csv"));
+  fs::remove_all(dir);
+}
