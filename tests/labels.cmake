@@ -33,7 +33,9 @@ set(PBXMPM_LABELLED_TESTS
   study Study.RunFailingOnOneRankLeavesTheOtherRanksRunsWhole mpi
   study Study.StudyFolderThatCannotBeMadeEndsEveryRank mpi
   distributed StripExchange.RanksGiveTheOneProcessNodalSumsToTheBit mpi
-  distributed StripExchange.RanksStepTheOneProcessDynamicsToTheBit slow,mpi)
+  distributed StripExchange.RanksStepTheOneProcessDynamicsToTheBit slow,mpi
+  distributed RunOverRanks.MpirunGivesTheOneProcessHistoryByteForByte mpi
+  distributed RunOverRanks.MoreRanksThanTheGridAllowsAreRefused mpi)
 list(LENGTH PBXMPM_LABELLED_TESTS n)
 math(EXPR last "${n} - 1")
 foreach(i RANGE 0 ${last} 3)
