@@ -122,30 +122,44 @@ void StripExchange<D>::receive_lines(int peer, long line0, long line1, int tag) 
 // down), passing its lower zone down. The zones of one rank are apart (checked at construction),
 // so a rank's strays meet in its zones only its neighbours' strays.
 template <int D>
-void StripExchange<D>::before_strays() {
+void StripExchange<D>::before_strays(long lo, long hi) {
+  // Which lines of each zone take part: those the strays of either side reach (the others keep the
+  // parity phases' sums, complete on the side that reads them). None: the zone is left alone.
+  for (Zone& z : zones_) {
+    const long mine[2] = {lo, hi};
+    long theirs[2] = {};
+    MPI_Sendrecv(mine, 2, MPI_LONG, z.peer, 9, theirs, 2, MPI_LONG, z.peer, 9, comm_, MPI_STATUS_IGNORE);
+    z.line0 = std::max(z.lo, std::min(lo, theirs[0]));
+    z.line1 = std::min(z.hi, std::max(hi, theirs[1]));
+    z.active = z.line0 <= z.line1;
+  }
   for (const Zone& z : zones_) {
-    const long mine0 = z.peer_above ? z.lo : z.b + 2, mine1 = z.peer_above ? z.b - 2 : z.hi;
-    const long theirs0 = z.peer_above ? z.b + 2 : z.lo, theirs1 = z.peer_above ? z.hi : z.b - 2;
+    if (!z.active) continue;
+    // this side's lines of the zone (up to the shared lines b - 1 ... b + 1, which both hold) and the other's
+    const long mine0 = z.peer_above ? z.line0 : std::max(z.line0, z.b + 2);
+    const long mine1 = z.peer_above ? std::min(z.line1, z.b - 2) : z.line1;
+    const long theirs0 = z.peer_above ? std::max(z.line0, z.b + 2) : z.line0;
+    const long theirs1 = z.peer_above ? z.line1 : std::min(z.line1, z.b - 2);
     std::vector<double> out, in;
-    pack(mine0, mine1, out);
-    pack(theirs0, theirs1, in);
+    if (mine0 <= mine1) pack(mine0, mine1, out);
+    if (theirs0 <= theirs1) pack(theirs0, theirs1, in);
     MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, z.peer, 10, in.data(),
                  static_cast<int>(in.size()), MPI_DOUBLE, z.peer, 10, comm_, MPI_STATUS_IGNORE);
-    unpack(theirs0, theirs1, in);
+    if (theirs0 <= theirs1) unpack(theirs0, theirs1, in);
   }
   for (const Zone& z : zones_)
-    if (!z.peer_above) receive_lines(z.peer, z.lo, z.hi, 11);
+    if (z.active && !z.peer_above) receive_lines(z.peer, z.line0, z.line1, 11);
 }
 
 template <int D>
 void StripExchange<D>::after_strays() {
   for (const Zone& z : zones_)
-    if (z.peer_above) {
-      send_lines(z.peer, z.lo, z.hi, 11);
-      receive_lines(z.peer, z.lo, z.hi, 12);
+    if (z.active && z.peer_above) {
+      send_lines(z.peer, z.line0, z.line1, 11);
+      receive_lines(z.peer, z.line0, z.line1, 12);
     }
   for (const Zone& z : zones_)
-    if (!z.peer_above) send_lines(z.peer, z.lo, z.hi, 12);
+    if (z.active && !z.peer_above) send_lines(z.peer, z.line0, z.line1, 12);
 }
 
 template <int D>

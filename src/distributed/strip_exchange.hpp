@@ -26,7 +26,7 @@ class StripExchange final : public ScatterExchange {
   StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips, long first_strip,
                 long end_strip);
   void after_phase(int phase) override;
-  void before_strays() override;
+  void before_strays(long lo, long hi) override;
   void after_strays() override;
   double max(double local) override;
   long first_line() const override { return first_line_; }
@@ -50,6 +50,8 @@ class StripExchange final : public ScatterExchange {
     int peer;
     long b, lo, hi;
     bool peer_above;
+    bool active = false;         // strays of either side reach it in this scatter
+    long line0 = 0, line1 = -1;  // the lines they reach, within [lo, hi]
   };
   template <class F>
   void for_each_entry(long line0, long line1, F&& f) const;  // node lines [line0, line1]

@@ -33,12 +33,16 @@ struct StripBins {
   // own, with the gather of the other ranks' parts (fold below).
   long own_lo = 0, own_hi = 0;
   PartGather* gather = nullptr;
+  // The strips whose nodes this process's node stages visit: all of them, or a rank's own and the
+  // two beyond each cut, where its particles' stencils, its strays' and the stray zones reach (its
+  // particles put no mass on other nodes).
+  long visit_lo = 0, visit_hi = 0;
 
   void setup(long cells_x) {
     width = std::max(3L, cells_x / 32);
     strips = std::max(1L, (cells_x + width - 1) / width);
-    own_lo = 0;
-    own_hi = strips;
+    own_lo = visit_lo = 0;
+    own_hi = visit_hi = strips;
   }
   // The strips of a grid (its cells along x), all of them this process's.
   template <int D>
@@ -50,17 +54,17 @@ struct StripBins {
 
   // A sum over the grid's nodes or the particles, strip by strip: body(s, part) accumulates strip
   // s into its part, in storage order, and the parts are summed in strip order (core/parallel.hpp).
-  // Every strip is visited, also another rank's (a node stage must act on the node lines this
-  // rank's particles reach beyond its strips; another rank's strips hold none of its particles),
-  // but only this rank's parts enter the sum, with the other ranks' gathered: the bits of the
-  // one-process sum on any thread and rank count. Strip-major, so that a rank's parts are whole
+  // The strips [visit_lo, visit_hi) are visited, beyond a rank's own too (a node stage must act on
+  // the node lines its particles reach beyond its strips; another rank's strips hold none of its
+  // particles), but only this rank's parts enter the sum, with the other ranks' gathered: the
+  // bits of the one-process sum on any thread and rank count. Strip-major, so that a rank's parts are whole
   // parts: the node sums were made over 1,024-node blocks in node order before 2026-12-07, which
   // cut across the strips (x runs fastest in node order).
   template <class T, class Body>
   T fold(const T& zero, Body&& body) const {
     std::vector<T> part(static_cast<std::size_t>(strips), zero);
 #pragma omp parallel for schedule(dynamic, 1)
-    for (long s = 0; s < strips; ++s) body(s, part[static_cast<std::size_t>(s)]);
+    for (long s = visit_lo; s < visit_hi; ++s) body(s, part[static_cast<std::size_t>(s)]);
     std::vector<T> own(part.begin() + own_lo, part.begin() + own_hi);
     return sum_parts(own, zero, gather);
   }

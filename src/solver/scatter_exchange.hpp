@@ -22,7 +22,9 @@ class ScatterExchange : public PartGather {
   // zone of 2 x width + 4 node lines around each cut is completed with the neighbour's sums and
   // the sums of the lower ranks' strays; after, this rank's strays go on up the ranks and the final
   // zones come back down. The strays then meet every node in the one-process (index) order.
-  virtual void before_strays() = 0;
+  // [lo, hi]: the node lines this rank's strays reach; a zone that neither side's strays reach is
+  // left alone.
+  virtual void before_strays(long lo, long hi) = 0;
   virtual void after_strays() = 0;
   // the largest of every rank's `local` (exact in any order): the time step's speeds, whether a
   // particle jumped a cell, whether any rank must stop

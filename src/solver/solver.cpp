@@ -107,6 +107,8 @@ void Solver<D>::set_scatter_exchange(ScatterExchange* exchange, double mass_thre
   // the sums over nodes and particles take this rank's strips and gather the others' (StripBins::fold)
   bins_.own_lo = exchange_ ? exchange_->first_strip() : 0;
   bins_.own_hi = exchange_ ? exchange_->end_strip() : bins_.strips;
+  bins_.visit_lo = std::max(0L, bins_.own_lo - 2);
+  bins_.visit_hi = std::min(bins_.strips, bins_.own_hi + 2);
   bins_.gather = exchange_;
   if (exchange_) vmax_ = exchange_->max(vmax_);
 }
@@ -115,18 +117,20 @@ void Solver<D>::set_scatter_exchange(ScatterExchange* exchange, double mass_thre
 // run over many ranks", item 4): a stray further from its home strip stops every rank (moving
 // particles between ranks is not built).
 template <int D>
-void Solver<D>::refuse_far_strays() {
+std::pair<long, long> Solver<D>::refuse_far_strays() {
   const auto& P = sc_.particles;
   const double inv_h = 1.0 / sc_.grid.h;
   std::uint32_t far = kNone;
+  long lo = sc_.grid.n[0], hi = -1;  // none
   for (const std::uint32_t p : bins_.strays) {
     const long home =
         std::upper_bound(bins_.begin.begin(), bins_.begin.end(), static_cast<long>(p)) - bins_.begin.begin() - 1;
-    const long now = bins_.strip_of((P.x[p][0] - sc_.grid.origin[0]) * inv_h);
-    if (std::abs(now - home) > 1) {
-      far = p;
-      break;
-    }
+    const double x = (P.x[p][0] - sc_.grid.origin[0]) * inv_h;
+    if (std::abs(bins_.strip_of(x) - home) > 1 && far == kNone) far = p;
+    // a particle in cell c reaches node lines c - 1 ... c + 2 (a stray is inside the grid)
+    const long cell = static_cast<long>(std::floor(x));
+    lo = std::min(lo, cell - 1);
+    hi = std::max(hi, cell + 2);
   }
   if (exchange_->max(far == kNone ? 0.0 : 1.0) > 0.0)
     throw std::runtime_error(
@@ -136,6 +140,7 @@ void Solver<D>::refuse_far_strays() {
                           "({} cells wide), which a run over several MPI ranks does not follow yet (its "
                           "particles stay on their rank); run it on one process",
                           steps_, far, sc_.material_names[P.material[far]], bins_.width));
+  return {lo, hi};
 }
 
 template <int D>

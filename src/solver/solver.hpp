@@ -7,6 +7,7 @@
 // solver/particle_pass.cpp), which calls the same per-particle kernels as the separate stages.
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "bodies/body_presence.hpp"
@@ -148,15 +149,16 @@ class Solver {
   void scatter_strays(F&& hand) {
     if (exchange_) {
       if (!(exchange_->max(bins_.strays.empty() ? 0.0 : 1.0) > 0.0)) return;
-      refuse_far_strays();
-      exchange_->before_strays();
+      const auto [lo, hi] = refuse_far_strays();
+      exchange_->before_strays(lo, hi);
       for (const std::uint32_t p : bins_.strays) hand(p);
       exchange_->after_strays();
       return;
     }
     for (const std::uint32_t p : bins_.strays) hand(p);
   }
-  void refuse_far_strays();
+  // stops every rank if a stray is further than one strip from home; the node lines the strays reach
+  std::pair<long, long> refuse_far_strays();
   void locate_particles();
 
   Scene<D>& sc_;
