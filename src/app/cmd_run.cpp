@@ -130,6 +130,11 @@ void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& dec
     // every rank builds the same scene; rank 0 says what it noticed
     Scene<D> scene = build_scene<D>(deck, rank == 0 ? SceneNotes::print : SceneNotes::quiet);
     deck.check_unused();
+    // USF and MUSL's passes have no exchange yet (docs/architecture.md, "One run over many ranks")
+    if (scene.settings.integrator != Integrator::usl)
+      throw InputError(
+          "solver.integrator: a run over several MPI ranks steps with \"usl\" only (USF and MUSL are not "
+          "split over ranks yet); set it to \"usl\" or run on one process");
     // the whole scene's strips and mass threshold, before each rank keeps its part
     std::vector<long> begin;
     long width = 0, strips = 0;

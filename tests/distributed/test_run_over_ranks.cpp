@@ -111,7 +111,26 @@ TEST(RunOverRanks, MpirunGivesTheOneProcessHistoryByteForByte) {
   fs::remove_all(dir);
 }
 
-// Bad partitions are refused before the run, every rank with the same message.
+// In 3-D too: a cube in uniaxial strain between rigid bodies (examples/3d), strips along x.
+TEST(RunOverRanks, ThreeDimensionalRunGivesTheOneProcessHistory) {
+  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_3d_{}", ::getpid());
+  fs::remove_all(dir);
+  const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "3d" / "confined_cube.toml").string();
+  const Result one =
+      shell(fmt::format("OMP_NUM_THREADS=1 {} run {} --out {} -q", PBXMPM_BINARY, deck, (dir / "one").string()));
+  ASSERT_EQ(one.code, 0) << one.output;
+  const Result two = shell(fmt::format(
+      "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n 2 {} run {} "
+      "--out {} -q",
+      PBXMPM_BINARY, deck, (dir / "two").string()));
+  ASSERT_EQ(two.code, 0) << two.output;
+  EXPECT_TRUE(read(dir / "one" / "history.csv") == read(dir / "two" / "history.csv"));
+  fs::remove_all(dir);
+}
+
+// Bad partitions are refused before the run, every rank with the same message; so are the options a
+// run over ranks does not take yet (USF and MUSL, checkpoints).
 TEST(RunOverRanks, MoreRanksThanTheGridAllowsAreRefused) {
   if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
   const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_refused_{}", ::getpid());
@@ -127,5 +146,14 @@ TEST(RunOverRanks, MoreRanksThanTheGridAllowsAreRefused) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("too few for 5 MPI ranks"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "five" / "history.csv"));
+  const std::string mpirun2 = fmt::format(
+      "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n 2 {} run {} ",
+      PBXMPM_BINARY, deck.string());
+  const Result usf = shell(mpirun2 + "--set 'solver.integrator=\"usf\"' --out " + (dir / "usf").string() + " -q");
+  EXPECT_EQ(usf.code, 2) << usf.output;
+  EXPECT_NE(usf.output.find("steps with \"usl\" only"), std::string::npos) << usf.output;
+  const Result ck = shell(mpirun2 + "--checkpoint-every 2 --out " + (dir / "ck").string() + " -q");
+  EXPECT_EQ(ck.code, 2) << ck.output;
+  EXPECT_NE(ck.output.find("writes no checkpoint yet"), std::string::npos) << ck.output;
   fs::remove_all(dir);
 }
