@@ -36,6 +36,7 @@ set(PBXMPM_LABELLED_TESTS
   distributed StripExchange.RanksStepTheOneProcessDynamicsToTheBit slow,mpi
   distributed RunOverRanks.MpirunGivesTheOneProcessHistoryByteForByte mpi
   distributed RunOverRanks.ThreeDimensionalRunGivesTheOneProcessHistory mpi
+  distributed RunOverRanks.CheckpointWrittenOnTwoRanksRestartsOnAnyNumber mpi
   distributed RunOverRanks.MoreRanksThanTheGridAllowsAreRefused mpi)
 list(LENGTH PBXMPM_LABELLED_TESTS n)
 math(EXPR last "${n} - 1")

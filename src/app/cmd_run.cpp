@@ -110,9 +110,10 @@ void run_deck(Deck& deck, const RunArgs& args, const std::string& deck_name, con
 // One run over the ranks mpirun started (issue 28; docs/architecture.md, "One run over many ranks"):
 // every rank builds the whole scene (the same deck, the same seed), the strips are shared out by
 // particle count, each rank keeps its strips' particles and steps them with the parity exchange;
-// rank 0 writes the files. The history is the one-process run's to the bit.
+// rank 0 writes the files and the checkpoints (the one-process file, gathered), and a restart on any
+// number of ranks reads it. The history is the one-process run's to the bit.
 template <int D>
-void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& deck_name) {
+void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& deck_name, const CheckpointData& ck) {
   int init = 0;
   MPI_Initialized(&init);
   if (!init) MPI_Init(nullptr, nullptr);
@@ -121,12 +122,6 @@ void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& dec
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   int code = 0;
   try {
-    if (!args.restart.empty())
-      throw InputError("pbxmpm run --restart over several MPI ranks: a run over ranks writes no checkpoint yet");
-    if (args.checkpoint_every > 0)
-      throw InputError(
-          "pbxmpm run --checkpoint-every over several MPI ranks: a run over ranks writes no checkpoint yet "
-          "(run it on one process to checkpoint it)");
     // every rank builds the same scene; rank 0 says what it noticed
     Scene<D> scene = build_scene<D>(deck, rank == 0 ? SceneNotes::print : SceneNotes::quiet);
     deck.check_unused();
@@ -165,13 +160,15 @@ void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& dec
     RunOptions opt = run_options_for(deck, deck_name, args.out);
     opt.threads = args.threads;
     opt.progress = !args.quiet && rank == 0;
-    opt.checkpoint_every = 0;
-    opt.checkpoint_wall_s = 0;
+    opt.checkpoint_every = args.checkpoint_every;
+    opt.checkpoint_wall_s = 60.0 * args.checkpoint_minutes;
     opt.exchange = &exchange;
     opt.mass_threshold = mass_threshold;
     opt.rank = rank;
     opt.ranks = size;
-    Runner<D> runner(scene, opt);
+    // a restart: every rank reads the checkpoint (the one-process file) and keeps its strips' part
+    Runner<D> runner(scene, opt, !args.restart.empty());
+    if (!args.restart.empty()) runner.resume(ck);
     if (rank == 0)
       fmt::print(stderr, "pbxmpm: {}: {} particles over {} MPI ranks ({} strips), {} deformable fields -> {}\n",
                  deck_name, total, size, strips, scene.deformable_fields, args.out);
@@ -297,9 +294,9 @@ void register_run(CLI::App& app) {
 #ifdef PBXMPM_HAVE_MPI
     if (ranks > 1) {
       if (deck_dimension(deck) == 3)
-        run_deck_over_ranks<3>(deck, *args, deck_name);
+        run_deck_over_ranks<3>(deck, *args, deck_name, ck);
       else
-        run_deck_over_ranks<2>(deck, *args, deck_name);
+        run_deck_over_ranks<2>(deck, *args, deck_name, ck);
       return;
     }
 #endif

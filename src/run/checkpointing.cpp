@@ -23,8 +23,8 @@ namespace {
 // Fingerprint of what the rebuilt scene gives and a checkpoint does not store: each particle's
 // material, field and mass (FNV-1a over their bits, 52 bits so a double holds it exactly). The
 // particle count alone let a re-packed specimen of the same count resume with the wrong grains.
-template <int D>
-double layout_fingerprint(const Particles<D>& P) {
+// `layout`: material, field and mass of each particle, three doubles each (the integers exact).
+double layout_fingerprint(const std::vector<double>& layout) {
   std::uint64_t h = 1469598103934665603ull;
   auto mix = [&](std::uint64_t v) {
     for (int b = 0; b < 8; ++b) {
@@ -32,16 +32,33 @@ double layout_fingerprint(const Particles<D>& P) {
       h *= 1099511628211ull;
     }
   };
-  for (std::size_t p = 0; p < P.size(); ++p) {
-    mix(static_cast<std::uint64_t>(P.material[p]));
-    mix(static_cast<std::uint64_t>(P.field[p]));
+  for (std::size_t k = 0; k + 2 < layout.size(); k += 3) {
+    mix(static_cast<std::uint64_t>(layout[k]));
+    mix(static_cast<std::uint64_t>(layout[k + 1]));
     std::uint64_t m;
-    std::memcpy(&m, &P.mass[p], sizeof m);
+    std::memcpy(&m, &layout[k + 2], sizeof m);
     mix(m);
   }
   return static_cast<double>(h >> 12);
 }
 }  // namespace
+
+// Every rank's values of a per-particle array in rank order: the whole specimen's in storage order
+// (a run over ranks; one process: its own).
+template <int D>
+std::vector<double> Runner<D>::whole_array(const std::vector<double>& mine) const {
+  return opt_.exchange ? opt_.exchange->in_rank_order(mine) : mine;
+}
+
+template <int D>
+double Runner<D>::whole_layout_fingerprint() const {
+  const auto& P = sc_.particles;
+  std::vector<double> layout;
+  layout.reserve(3 * P.size());
+  for (std::size_t p = 0; p < P.size(); ++p)
+    layout.insert(layout.end(), {static_cast<double>(P.material[p]), static_cast<double>(P.field[p]), P.mass[p]});
+  return layout_fingerprint(whole_array(layout));
+}
 
 template <int D>
 void Runner<D>::write_checkpoint(const std::string& file) const {
@@ -65,15 +82,18 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
                {"next_row", static_cast<double>(next_row_)},
                {"next_snapshot", static_cast<double>(next_snapshot_)},
                {"rows_written", static_cast<double>(rows_written_)},
-               {"particles", static_cast<double>(P.size())},
-               {"layout", layout_fingerprint(P)},
+               {"particles", static_cast<double>(whole_.particles)},
+               {"layout", whole_layout_fingerprint()},
                {"wall_s", wall_before_ + now_s() - wall_start_},
                {"restarts", static_cast<double>(restarts_)}};
+  // A run over ranks writes the one-process file: every array gathered in rank order, which is the
+  // whole specimen's storage order (and each material's batch order), so a checkpoint written on
+  // N ranks restarts on any number.
   auto flat = [&](const std::string& name, auto const& vec, int comps, auto get) {
     std::vector<double> out;
     out.reserve(vec.size() * static_cast<std::size_t>(comps));
     for (const auto& e : vec) get(e, out);
-    c.arrays[name] = std::move(out);
+    c.arrays[name] = whole_array(out);
   };
   auto vec_get = [](const Vec<D>& e, std::vector<double>& o) {
     for (int d = 0; d < D; ++d) o.push_back(e[d]);
@@ -88,9 +108,9 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
   flat("stress", P.stress, 6, [](const Sym3& e, std::vector<double>& o) {
     o.insert(o.end(), {e.xx, e.yy, e.zz, e.xy, e.yz, e.zx});
   });
-  c.arrays["volume"] = P.volume;
+  c.arrays["volume"] = whole_array(P.volume);
   for (std::size_t m = 0; m < sc_.material_state.size(); ++m)
-    c.arrays[fmt::format("history_{}", m)] = sc_.material_state[m].history;
+    c.arrays[fmt::format("history_{}", m)] = whole_array(sc_.material_state[m].history);
   std::vector<double> snaps;
   for (auto& [t, n] : snapshots_.written()) snaps.insert(snaps.end(), {t, static_cast<double>(n)});
   c.arrays["snapshots"] = snaps;
@@ -105,7 +125,7 @@ void Runner<D>::write_checkpoint(const std::string& file) const {
     }
     c.arrays["contact_velocities"] = cv;
   }
-  pbx::write_checkpoint(file, c);
+  if (writer_) pbx::write_checkpoint(file, c);
 }
 
 template <int D>
@@ -124,7 +144,7 @@ void Runner<D>::resume(const CheckpointData& c) {
   };
   // A checkpoint continues only its own run: resumed into a folder holding another run, it would
   // cut that run's history and append its own rows.
-  if (!opt_.out_dir.empty()) {
+  if (writer_) {
     const std::string here = run_id_in(opt_.out_dir);
     if (!here.empty() && here != c.run_id)
       throw InputError(
@@ -133,33 +153,55 @@ void Runner<D>::resume(const CheckpointData& c) {
                       opt_.out_dir, here, c.run_id.empty() ? "not recorded" : c.run_id));
   }
   run_id_ = c.run_id.empty() ? new_run_id() : c.run_id;
-  const std::size_t n = P.size();
-  if (static_cast<std::size_t>(scalar("particles")) != n)
+  const std::size_t n = P.size(), whole = whole_.particles;
+  if (static_cast<std::size_t>(scalar("particles")) != whole)
     throw InputError("checkpoint particle count differs from the deck's: the deck or packing changed");
   // absent from checkpoints written before 2026-12-02: not checked for them
-  if (auto it = c.scalars.find("layout"); it != c.scalars.end() && it->second != layout_fingerprint(P))
+  if (auto it = c.scalars.find("layout"); it != c.scalars.end() && it->second != whole_layout_fingerprint())
     throw InputError(
         "checkpoint particles (materials, fields or masses) differ from the deck's at the same count: "
         "the packing, or the code that builds the specimen, changed; rerun from the start");
-  const auto& x = array("x", n * D);
-  const auto& v = array("v", n * D);
-  const auto& F = array("F", n * D * D);
-  const auto& L = array("L", n * D * D);
-  const auto& s = array("stress", n * 6);
-  P.volume = array("volume", n);
+  // This process's part of the whole specimen's arrays: from its first particle, and in each
+  // material's batch from its first row (a run over ranks: the counts of the ranks below).
+  const std::size_t nm = sc_.material_state.size();
+  std::size_t first = 0;
+  std::vector<std::size_t> first_row(nm, 0);
+  if (opt_.exchange) {
+    std::vector<double> counts = {static_cast<double>(n)};
+    for (std::size_t m = 0; m < nm; ++m) counts.push_back(static_cast<double>(sc_.material_state[m].index.size()));
+    const std::vector<double> all = opt_.exchange->in_rank_order(counts);
+    for (int r = 0; r < opt_.rank; ++r) {
+      first += static_cast<std::size_t>(all[static_cast<std::size_t>(r) * (nm + 1)]);
+      for (std::size_t m = 0; m < nm; ++m)
+        first_row[m] += static_cast<std::size_t>(all[static_cast<std::size_t>(r) * (nm + 1) + 1 + m]);
+    }
+  }
+  const auto& x = array("x", whole * D);
+  const auto& v = array("v", whole * D);
+  const auto& F = array("F", whole * D * D);
+  const auto& L = array("L", whole * D * D);
+  const auto& s = array("stress", whole * 6);
+  const auto& vol = array("volume", whole);
+  P.volume.assign(vol.begin() + static_cast<long>(first), vol.begin() + static_cast<long>(first + n));
   for (std::size_t p = 0; p < n; ++p) {
+    const std::size_t q = first + p;
     for (int d = 0; d < D; ++d) {
-      P.x[p][d] = x[p * D + d];
-      P.v[p][d] = v[p * D + d];
+      P.x[p][d] = x[q * D + d];
+      P.v[p][d] = v[q * D + d];
     }
     for (int k = 0; k < D * D; ++k) {
-      P.F[p].data()[k] = F[p * D * D + k];
-      P.L[p].data()[k] = L[p * D * D + k];
+      P.F[p].data()[k] = F[q * D * D + k];
+      P.L[p].data()[k] = L[q * D * D + k];
     }
-    P.stress[p] = {s[6 * p], s[6 * p + 1], s[6 * p + 2], s[6 * p + 3], s[6 * p + 4], s[6 * p + 5]};
+    P.stress[p] = {s[6 * q], s[6 * q + 1], s[6 * q + 2], s[6 * q + 3], s[6 * q + 4], s[6 * q + 5]};
   }
-  for (std::size_t m = 0; m < sc_.material_state.size(); ++m)
-    sc_.material_state[m].history = array(fmt::format("history_{}", m), sc_.material_state[m].history.size());
+  for (std::size_t m = 0; m < nm; ++m) {
+    auto& h = sc_.material_state[m].history;
+    const std::size_t hs = static_cast<std::size_t>(sc_.materials[m]->history_size());
+    const auto& all = array(fmt::format("history_{}", m), whole_.by_material[m] * hs);
+    h.assign(all.begin() + static_cast<long>(first_row[m] * hs),
+             all.begin() + static_cast<long>((first_row[m] + sc_.material_state[m].index.size()) * hs));
+  }
   typename Solver<D>::State st{scalar("t"),
                                scalar("dt"),
                                scalar("cmax"),
@@ -214,7 +256,7 @@ void Runner<D>::resume(const CheckpointData& c) {
   for (const auto& b : sc_.bodies) rigid += b.x.size();
   snapshots_.restore(w, rigid);
   // keep the header and the rows the checkpoint had written, then append
-  if (!opt_.out_dir.empty()) {
+  if (writer_) {
     const auto file = (std::filesystem::path(opt_.out_dir) / "history.csv").string();
     std::ifstream in(file);
     if (!in) throw InputError(fmt::format("restart: '{}' is missing", file));
@@ -239,6 +281,10 @@ void Runner<D>::resume(const CheckpointData& c) {
   resumed_ = true;
 }
 
+template std::vector<double> Runner<2>::whole_array(const std::vector<double>&) const;
+template double Runner<2>::whole_layout_fingerprint() const;
+template std::vector<double> Runner<3>::whole_array(const std::vector<double>&) const;
+template double Runner<3>::whole_layout_fingerprint() const;
 template void Runner<2>::write_checkpoint(const std::string&) const;
 template void Runner<2>::resume(const CheckpointData&);
 template void Runner<3>::write_checkpoint(const std::string&) const;

@@ -81,7 +81,6 @@ Runner<D>::Runner(Scene<D>& scene, RunOptions opt, bool restart) : sc_(scene), o
   saves_ = !opt_.out_dir.empty();
   writer_ = saves_ && opt_.rank == 0;
   if (opt_.exchange) {
-    if (restart) throw InputError("a run over several MPI ranks cannot restart from a checkpoint yet");
     solver_.set_scatter_exchange(opt_.exchange, opt_.mass_threshold);
   }
   {
@@ -357,9 +356,11 @@ void Runner<D>::run(const std::function<void(const Measurement&)>& on_row) {
         continue;
       }
       const bool more = solver_.time() < t_end * (1 - 1e-12);
-      const bool periodic = (opt_.checkpoint_every > 0 && rows_written_ % opt_.checkpoint_every == 0) ||
-                            (opt_.checkpoint_wall_s > 0 && now_s() - last_checkpoint_wall_ >= opt_.checkpoint_wall_s);
-      if (more && (periodic || stop) && !opt_.exchange) {
+      bool periodic = (opt_.checkpoint_every > 0 && rows_written_ % opt_.checkpoint_every == 0) ||
+                      (opt_.checkpoint_wall_s > 0 && now_s() - last_checkpoint_wall_ >= opt_.checkpoint_wall_s);
+      // the ranks' clocks differ: they write (a collective gather) when any of them is due
+      if (opt_.exchange) periodic = opt_.exchange->max(periodic ? 1.0 : 0.0) > 0.0;
+      if (more && (periodic || stop)) {
         write_checkpoint(checkpoint_file);
         last_checkpoint_wall_ = now_s();
       }
@@ -393,14 +394,9 @@ template <int D>
 void Runner<D>::stop_interrupted() {
   const auto ckpt = std::filesystem::path(opt_.out_dir) / "checkpoint.h5";
   const std::string msg =
-      opt_.exchange
-          ? fmt::format(
-                "interrupted at step {} (t = {:.6g} s, {} history rows); a run over several MPI ranks "
-                "writes no checkpoint yet: run it again to finish it",
-                solver_.step_count(), solver_.time(), rows_written_)
-          : fmt::format(
-                "interrupted at step {} (t = {:.6g} s, {} history rows); continue with: pbxmpm run --restart {}",
-                solver_.step_count(), solver_.time(), rows_written_, ckpt.string());
+      fmt::format("interrupted at step {} (t = {:.6g} s, {} history rows); continue with: {}pbxmpm run --restart {}{}",
+                  solver_.step_count(), solver_.time(), rows_written_, opt_.exchange ? "mpirun -n N " : "",
+                  ckpt.string(), opt_.exchange ? " (on any number of ranks, or one process)" : "");
   write_run_json("interrupted", msg);
   throw Interrupted(msg);
 }

@@ -111,6 +111,9 @@ class Runner {
   std::string first_non_finite_particle() const;
   // The field overlap of the whole specimen (every rank's particles in a decomposed run).
   double field_overlap_area();
+  // a per-particle array over every rank, in storage order (checkpoints), and the layout's fingerprint
+  std::vector<double> whole_array(const std::vector<double>& mine) const;
+  double whole_layout_fingerprint() const;
   Scene<D>& sc_;
   RunOptions opt_;
   Solver<D> solver_;
