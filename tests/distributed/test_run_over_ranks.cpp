@@ -83,109 +83,92 @@ velocity = ["-20 m/s", "0 m/s"]
 )";
 }
 
+// A fresh folder holding the colliding disks' deck, removed after the test; `run(ranks, args)` runs
+// `pbxmpm run ARGS` on one process (ranks = 1, no launcher) or under mpirun, one thread per process.
+class RunOverRanks : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
+    const auto* t = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::temp_directory_path() / fmt::format("pbx_{}_{}", t->name(), ::getpid());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    deck = (dir / "disks.toml").string();
+    std::ofstream(deck) << colliding_disks_deck();
+  }
+  void TearDown() override {
+    if (!dir.empty()) fs::remove_all(dir);
+  }
+  static Result run(int ranks, const std::string& args) {
+    if (ranks == 1) return shell(fmt::format("OMP_NUM_THREADS=1 {} run {}", PBXMPM_BINARY, args));
+    return shell(fmt::format(
+        "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n {} {} run {}",
+        ranks, PBXMPM_BINARY, args));
+  }
+  fs::path dir;
+  std::string deck;
+};
+
 }  // namespace
 
-TEST(RunOverRanks, MpirunGivesTheOneProcessHistoryByteForByte) {
-  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
-  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_{}", ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const fs::path deck = dir / "disks.toml";
-  std::ofstream(deck) << colliding_disks_deck();
-  const Result one = shell(
-      fmt::format("OMP_NUM_THREADS=1 {} run {} --out {} -q", PBXMPM_BINARY, deck.string(), (dir / "one").string()));
+TEST_F(RunOverRanks, MpirunGivesTheOneProcessHistoryByteForByte) {
+  const Result one = run(1, fmt::format("{} --out {} -q", deck, (dir / "one").string()));
   ASSERT_EQ(one.code, 0) << one.output;
   const std::string history = read(dir / "one" / "history.csv");
   ASSERT_GT(history.size(), 1000u);
   for (int n : {2, 3}) {
     const fs::path out = dir / fmt::format("ranks{}", n);
-    const Result r = shell(fmt::format(
-        "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n {} {} run {} "
-        "--out {} -q",
-        n, PBXMPM_BINARY, deck.string(), out.string()));
+    const Result r = run(n, fmt::format("{} --out {} -q", deck, out.string()));
     ASSERT_EQ(r.code, 0) << n << " ranks:\n" << r.output;
     EXPECT_TRUE(read(out / "history.csv") == history) << n << " ranks: history.csv differs from one process's";
     // rank 0 wrote the files: run.json counts the whole specimen and the ranks
-    const std::string run = read(out / "run.json");
-    EXPECT_NE(run.find(fmt::format("\"mpi_ranks\": {}", n)), std::string::npos) << run.substr(0, 400);
+    const std::string json = read(out / "run.json");
+    EXPECT_NE(json.find(fmt::format("\"mpi_ranks\": {}", n)), std::string::npos) << json.substr(0, 400);
     EXPECT_TRUE(fs::exists(out / "snapshots" / "snap_0001.h5"));
   }
-  fs::remove_all(dir);
 }
 
 // A checkpoint written on 2 ranks is the one-process file: the run restarts from it on 1, 2 and 3
 // ranks, and on 2 ranks from one a single process wrote, each finishing with the uninterrupted
 // one-process history byte for byte (40 rows, checkpoints every 10: the restarts start at row 30).
-TEST(RunOverRanks, CheckpointWrittenOnTwoRanksRestartsOnAnyNumber) {
-  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
-  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_ck_{}", ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const fs::path deck = dir / "disks.toml";
-  std::ofstream(deck) << colliding_disks_deck();
-  const std::string mpirun = "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none";
-  const Result one = shell(fmt::format("OMP_NUM_THREADS=1 {} run {} --out {} -q --checkpoint-every 10", PBXMPM_BINARY,
-                                       deck.string(), (dir / "one").string()));
-  ASSERT_EQ(one.code, 0) << one.output;
-  const Result two = shell(fmt::format("{} -n 2 {} run {} --out {} -q --checkpoint-every 10", mpirun, PBXMPM_BINARY,
-                                       deck.string(), (dir / "two").string()));
-  ASSERT_EQ(two.code, 0) << two.output;
+TEST_F(RunOverRanks, CheckpointWrittenOnTwoRanksRestartsOnAnyNumber) {
+  for (const auto& [name, ranks] : std::vector<std::pair<std::string, int>>{{"one", 1}, {"two", 2}}) {
+    const Result r = run(ranks, fmt::format("{} --out {} -q --checkpoint-every 10", deck, (dir / name).string()));
+    ASSERT_EQ(r.code, 0) << r.output;
+    ASSERT_TRUE(fs::exists(dir / name / "checkpoint.h5"));
+  }
   const std::string history = read(dir / "one" / "history.csv");
-  ASSERT_TRUE(fs::exists(dir / "two" / "checkpoint.h5"));
   for (const auto& [from, ranks] :
        std::vector<std::pair<std::string, int>>{{"two", 1}, {"two", 2}, {"two", 3}, {"one", 2}}) {
-    const fs::path run = dir / fmt::format("{}_on_{}", from, ranks);
-    fs::copy(dir / from, run, fs::copy_options::recursive);
-    const std::string restart = fmt::format("{} run --restart {} -q", PBXMPM_BINARY, (run / "checkpoint.h5").string());
-    const Result r =
-        shell(ranks == 1 ? "OMP_NUM_THREADS=1 " + restart : fmt::format("{} -n {} {}", mpirun, ranks, restart));
+    const fs::path folder = dir / fmt::format("{}_on_{}", from, ranks);
+    fs::copy(dir / from, folder, fs::copy_options::recursive);
+    const Result r = run(ranks, fmt::format("--restart {} -q", (folder / "checkpoint.h5").string()));
     ASSERT_EQ(r.code, 0) << from << " on " << ranks << ":\n" << r.output;
-    EXPECT_TRUE(read(run / "history.csv") == history) << "checkpoint of '" << from << "' restarted on " << ranks;
-    EXPECT_NE(read(run / "run.json").find("\"restarts\": 1"), std::string::npos) << from << " on " << ranks;
+    EXPECT_TRUE(read(folder / "history.csv") == history) << "checkpoint of '" << from << "' restarted on " << ranks;
+    EXPECT_NE(read(folder / "run.json").find("\"restarts\": 1"), std::string::npos) << from << " on " << ranks;
   }
-  fs::remove_all(dir);
 }
 
 // In 3-D too: a cube in uniaxial strain between rigid bodies (examples/3d), strips along x.
-TEST(RunOverRanks, ThreeDimensionalRunGivesTheOneProcessHistory) {
-  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
-  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_3d_{}", ::getpid());
-  fs::remove_all(dir);
-  const std::string deck = (fs::path(PBXMPM_EXAMPLES_DIR) / "3d" / "confined_cube.toml").string();
-  const Result one =
-      shell(fmt::format("OMP_NUM_THREADS=1 {} run {} --out {} -q", PBXMPM_BINARY, deck, (dir / "one").string()));
-  ASSERT_EQ(one.code, 0) << one.output;
-  const Result two = shell(fmt::format(
-      "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n 2 {} run {} "
-      "--out {} -q",
-      PBXMPM_BINARY, deck, (dir / "two").string()));
-  ASSERT_EQ(two.code, 0) << two.output;
-  EXPECT_TRUE(read(dir / "one" / "history.csv") == read(dir / "two" / "history.csv"));
-  fs::remove_all(dir);
+TEST_F(RunOverRanks, ThreeDimensionalRunGivesTheOneProcessHistory) {
+  const std::string cube = (fs::path(PBXMPM_EXAMPLES_DIR) / "3d" / "confined_cube.toml").string();
+  for (int n : {1, 2}) {
+    const Result r = run(n, fmt::format("{} --out {} -q", cube, (dir / std::to_string(n)).string()));
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  EXPECT_TRUE(read(dir / "1" / "history.csv") == read(dir / "2" / "history.csv"));
 }
 
 // Bad partitions are refused before the run, every rank with the same message; so are the options a
 // run over ranks does not take yet (USF and MUSL).
-TEST(RunOverRanks, MoreRanksThanTheGridAllowsAreRefused) {
-  if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed";
-  const fs::path dir = fs::temp_directory_path() / fmt::format("pbx_run_over_ranks_refused_{}", ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const fs::path deck = dir / "disks.toml";
-  std::ofstream(deck) << colliding_disks_deck();
-  // 40 cells: 13 strips of 3, and a rank between two others needs 4 strips for its stray zones
-  const Result r = shell(fmt::format(
-      "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n 5 {} run {} "
-      "--out {} -q",
-      PBXMPM_BINARY, deck.string(), (dir / "five").string()));
+TEST_F(RunOverRanks, MoreRanksThanTheGridAllowsAreRefused) {
+  // 40 cells: 14 strips of 3, and a rank between two others needs 4 strips for its stray zones
+  const Result r = run(5, fmt::format("{} --out {} -q", deck, (dir / "five").string()));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("too few for 5 MPI ranks"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "five" / "history.csv"));
-  const std::string mpirun2 = fmt::format(
-      "OMP_NUM_THREADS=1 timeout 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -n 2 {} run {} ",
-      PBXMPM_BINARY, deck.string());
-  const Result usf = shell(mpirun2 + "--set 'solver.integrator=\"usf\"' --out " + (dir / "usf").string() + " -q");
+  const Result usf =
+      run(2, fmt::format("{} --set 'solver.integrator=\"usf\"' --out {} -q", deck, (dir / "usf").string()));
   EXPECT_EQ(usf.code, 2) << usf.output;
   EXPECT_NE(usf.output.find("steps with \"usl\" only"), std::string::npos) << usf.output;
-  fs::remove_all(dir);
 }
