@@ -15,6 +15,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "../deck_parts.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -58,16 +60,6 @@ max = ["0.4 mm", "0.2 mm"]
 [contact]
 default = "coulomb"
 friction = 0.3
-[materials.left]
-model = "linear_elastic"
-density = "1.9 g/cm3"
-youngs_modulus = "2 GPa"
-poisson_ratio = 0.3
-[materials.right]
-model = "linear_elastic"
-density = "1.9 g/cm3"
-youngs_modulus = "3 GPa"
-poisson_ratio = 0.3
 [[geometry]]
 shape = "disk"
 center = ["0.135 mm", "0.105 mm"]
@@ -80,7 +72,8 @@ center = ["0.265 mm", "0.095 mm"]
 radius = "0.06 mm"
 material = "right"
 velocity = ["-20 m/s", "0 m/s"]
-)";
+)" + pbx::test::elastic("left", 1.9, 2, 0.3) +
+         pbx::test::elastic("right", 1.9, 3, 0.3);
 }
 
 // A fresh folder holding the colliding disks' deck, removed after the test; `run(ranks, args)` runs
