@@ -158,10 +158,8 @@ void decomposed_step(double cell_um, int warmup, int steps, int rank, int size) 
                       static_cast<std::size_t>(sb[static_cast<std::size_t>(end)]));
   Solver<2> local(mine);
   StripExchange<2> ex(MPI_COMM_WORLD, mine.grid, &mine.layer_data.sums, ref.strips().width, ref.strips().strips, first,
-                      end);
+                      end, mine.settings.kernel != Kernel::linear);
   local.set_scatter_exchange(&ex, ref.mass_threshold());
-  long doubles = static_cast<long>(ex.message_doubles()), max_doubles = 0;
-  MPI_Allreduce(&doubles, &max_doubles, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
   for (int k = 0; k < warmup; ++k) local.step();
   local.stage_clock().clear();
   MPI_Barrier(MPI_COMM_WORLD);
@@ -169,6 +167,8 @@ void decomposed_step(double cell_um, int warmup, int steps, int rank, int size) 
   for (int k = 0; k < steps; ++k) local.step();
   double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  long doubles = static_cast<long>(ex.message_doubles()), max_doubles = 0;
+  MPI_Allreduce(&doubles, &max_doubles, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
   long mine_n = static_cast<long>(mine.particles.size()), max_n = 0;
   MPI_Allreduce(&mine_n, &max_n, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
   if (rank == 0) {
@@ -181,7 +181,7 @@ void decomposed_step(double cell_um, int warmup, int steps, int rank, int size) 
     std::printf(
         "  %5.1f um, %ld particles, steps %d-%d: one process %.3f s (%.3g particle-updates/s); %d ranks %.3f s "
         "(%.3g /s); speed-up %.2f, efficiency %.0f %% (the largest rank holds %ld particles, %.0f %% of an even "
-        "share); the built exchange's message %.1f kB (every entry of the three lines)\n",
+        "share); the largest message sent %.1f kB (the mass-holding entries and their indices)\n",
         cell_um, np, warmup, warmup + steps, t_one, np * steps / t_one, size, t, np * steps / t, t_one / t,
         100 * t_one / (size * t), max_n, 100.0 * max_n * size / np, 8e-3 * static_cast<double>(max_doubles));
 }

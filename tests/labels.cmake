@@ -35,6 +35,7 @@ set(PBXMPM_LABELLED_TESTS
   distributed StripExchange.RanksGiveTheOneProcessNodalSumsToTheBit mpi
   distributed StripExchange.RanksStepTheOneProcessDynamicsToTheBit slow,mpi
   distributed RunOverRanks.MpirunGivesTheOneProcessHistoryByteForByte mpi
+  distributed RunOverRanks.EveryShapeFunctionGivesTheOneProcessHistory mpi
   distributed RunOverRanks.ThreeDimensionalRunGivesTheOneProcessHistory mpi
   distributed RunOverRanks.CheckpointWrittenOnTwoRanksRestartsOnAnyNumber mpi
   distributed RunOverRanks.MoreRanksThanTheGridAllowsAreRefused mpi)

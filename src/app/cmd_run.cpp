@@ -156,7 +156,8 @@ void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& dec
     const std::size_t total = scene.particles.size();
     keep_particle_range(scene, static_cast<std::size_t>(begin[static_cast<std::size_t>(first)]),
                         static_cast<std::size_t>(begin[static_cast<std::size_t>(end)]));
-    StripExchange<D> exchange(MPI_COMM_WORLD, scene.grid, &scene.layer_data.sums, width, strips, first, end);
+    StripExchange<D> exchange(MPI_COMM_WORLD, scene.grid, &scene.layer_data.sums, width, strips, first, end,
+                              scene.settings.kernel != Kernel::linear);
     RunOptions opt = run_options_for(deck, deck_name, args.out);
     opt.threads = args.threads;
     opt.progress = !args.quiet && rank == 0;

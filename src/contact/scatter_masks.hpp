@@ -87,35 +87,39 @@ class ContactScatterMasks {
     if constexpr (D == 2) {
       if (!field_contact || nf < 2 || nf > 64) return;
       const long nx = g.n[0], ny = g.n[1], nn = g.nodes();
-      field_bits_.assign(static_cast<std::size_t>(nn), 0);
+      // Each pass computes only the columns whose result can differ from its value beyond the seen
+      // lines (every field there: a candidate, a marked base), so a rank's cost follows its own
+      // columns, not the whole grid's; the marks are those of the passes over every column.
+      const long x0 = std::max(0L, seen_lo), x1 = std::min(nx - 1, seen_hi);
+      field_bits_.assign(static_cast<std::size_t>(nn), ~std::uint64_t{0});
       std::uint64_t* bits = field_bits_.data();
 #pragma omp parallel for schedule(static)
-      for (long i = 0; i < nn; ++i) {
-        std::uint64_t b = 0;
-        for (int f = 0; f < nf; ++f)
-          if (g.mass[g.at(f, i)] > 0.0) b |= std::uint64_t{1} << f;
-        bits[i] = b;
-      }
-      if (seen_lo > 0 || seen_hi < nx - 1)
-        for (long y = 0; y < ny; ++y)
-          for (long x = 0; x < nx; ++x)
-            if (x < seen_lo || x > seen_hi) bits[x + y * nx] = ~std::uint64_t{0};
+      for (long y = 0; y < ny; ++y)
+        for (long x = x0; x <= x1; ++x) {
+          const long i = x + y * nx;
+          std::uint64_t b = 0;
+          for (int f = 0; f < nf; ++f)
+            if (g.mass[g.at(f, i)] > 0.0) b |= std::uint64_t{1} << f;
+          bits[i] = b;
+        }
       // candidates: two or more fields within one node (a 3 x 3 OR, then a count)
       std::vector<std::uint8_t>& cand = candidate_;
-      cand.assign(static_cast<std::size_t>(nn), 0);
+      cand.assign(static_cast<std::size_t>(nn), 1);
+      const long cx0 = std::max(0L, x0 - 1), cx1 = std::min(nx - 1, x1 + 1);
 #pragma omp parallel for schedule(static)
       for (long y = 0; y < ny; ++y)
-        for (long x = 0; x < nx; ++x) {
+        for (long x = cx0; x <= cx1; ++x) {
           std::uint64_t u = 0;
           for (long yy = std::max(0L, y - 1); yy <= std::min(ny - 1, y + 1); ++yy)
             for (long xx = std::max(0L, x - 1); xx <= std::min(nx - 1, x + 1); ++xx) u |= bits[xx + yy * nx];
           cand[static_cast<std::size_t>(x + y * nx)] = (u & (u - 1)) != 0;  // more than one bit set
         }
       // bases whose 3 x 3 stencil holds a candidate
-      contact_bases_.assign(static_cast<std::size_t>(nn), 0);
+      contact_bases_.assign(static_cast<std::size_t>(nn), 1);
+      const long bx0 = std::max(0L, cx0 - 2);
 #pragma omp parallel for schedule(static)
       for (long y = 0; y < ny; ++y)
-        for (long x = 0; x < nx; ++x) {
+        for (long x = bx0; x <= cx1; ++x) {
           std::uint8_t m = 0;
           for (long yy = y; yy <= std::min(ny - 1, y + 2); ++yy)
             for (long xx = x; xx <= std::min(nx - 1, x + 2); ++xx) m |= cand[static_cast<std::size_t>(xx + yy * nx)];

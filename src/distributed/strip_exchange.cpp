@@ -33,8 +33,8 @@ void for_each_sum(Grid<D>& g, LayerSums<D>* layer, F&& f) {
 
 template <int D>
 StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips,
-                                long first_strip, long end_strip)
-    : comm_(comm), g_(grid), layer_(layer), first_strip_(first_strip), end_strip_(end_strip) {
+                                long first_strip, long end_strip, bool sparse)
+    : comm_(comm), g_(grid), layer_(layer), first_strip_(first_strip), end_strip_(end_strip), sparse_(sparse) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -54,64 +54,110 @@ StripExchange<D>::StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* laye
   first_line_ = first_strip == 0 ? 0 : first_strip * width - 1;
   last_line_ = end_strip >= strips ? grid.n[0] - 1 : end_strip * width + 1;
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
-    pack(cuts_[k].line0, cuts_[k].line0 + 2, send_[k]);  // sizes the buffers
-    recv_[k].assign(send_[k].size(), 0.0);
+    send_[k].reserve(capacity(cuts_[k].line0, cuts_[k].line0 + 2));
+    recv_[k].assign(capacity(cuts_[k].line0, cuts_[k].line0 + 2), 0.0);
   }
-  // Both sides of every cut must agree on its lines, on who sends first and on the message size:
-  // a partition that is not the same on every rank would otherwise hang in the first exchange.
+  // Both sides of every cut must agree on its lines, on who sends first, on the messages' largest
+  // size and on their form: a partition that is not the same on every rank would otherwise hang in
+  // the first exchange.
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
-    const long mine[3] = {cuts_[k].line0, cuts_[k].sends_after, static_cast<long>(send_[k].size())};
-    long theirs[3] = {};
-    MPI_Sendrecv(mine, 3, MPI_LONG, cuts_[k].peer, 99, theirs, 3, MPI_LONG, cuts_[k].peer, 99, comm, MPI_STATUS_IGNORE);
-    if (theirs[0] != mine[0] || theirs[1] != 1 - mine[1] || theirs[2] != mine[2])
+    const long mine[4] = {cuts_[k].line0, cuts_[k].sends_after, static_cast<long>(recv_[k].size()), sparse ? 1 : 0};
+    long theirs[4] = {};
+    MPI_Sendrecv(mine, 4, MPI_LONG, cuts_[k].peer, 99, theirs, 4, MPI_LONG, cuts_[k].peer, 99, comm, MPI_STATUS_IGNORE);
+    if (theirs[0] != mine[0] || theirs[1] != 1 - mine[1] || theirs[2] != mine[2] || theirs[3] != mine[3])
       throw std::runtime_error("StripExchange: ranks " + std::to_string(rank) + " and " +
                                std::to_string(cuts_[k].peer) +
                                " disagree on the cut between them (each must hold its own part of one partition)");
   }
 }
 
-// Calls f(entry, doubles per entry) for every entry of node lines [line0, line1], in the order a
-// message carries them (the same order on both sides).
+// Calls f(k) for every node-field k = grid.at(field, node) of node lines [line0, line1], in the
+// order a message carries them (the same order on both sides).
 template <int D>
 template <class F>
-void StripExchange<D>::for_each_entry(long line0, long line1, F&& f) const {
+void StripExchange<D>::for_each_node_field(long line0, long line1, F&& f) const {
   const long n0 = g_.n[0], rows = g_.nodes() / n0;
-  for_each_sum(g_, layer_, [&](double* a, int w) {
-    for (int fld = 0; fld < g_.deformable; ++fld)
-      for (long r = 0; r < rows; ++r)
-        for (long x = line0; x <= line1; ++x)
-          f(a + static_cast<std::size_t>(w) * static_cast<std::size_t>(g_.at(fld, r * n0 + x)), w);
-  });
+  for (int fld = 0; fld < g_.deformable; ++fld)
+    for (long r = 0; r < rows; ++r)
+      for (long x = line0; x <= line1; ++x) f(g_.at(fld, r * n0 + x));
+}
+
+// A message: the count n of its entries, their n node-field indices, then each sum's values for
+// those entries (for_each_sum's order). Indices travel as doubles (exact below 2^53).
+template <int D>
+std::size_t StripExchange<D>::capacity(long line0, long line1) const {
+  std::size_t per_entry = 1;  // its index
+  for_each_sum(g_, layer_, [&](double*, int w) { per_entry += static_cast<std::size_t>(w); });
+  const auto entries = static_cast<std::size_t>(g_.deformable) * static_cast<std::size_t>(g_.nodes() / g_.n[0]) *
+                       static_cast<std::size_t>(line1 - line0 + 1);
+  return 1 + entries * per_entry;
 }
 
 template <int D>
-void StripExchange<D>::pack(long line0, long line1, std::vector<double>& buf) const {
+void StripExchange<D>::pack(long line0, long line1, std::vector<double>& buf) {
+  entries_.clear();
+  for_each_node_field(line0, line1, [&](long k) {
+    if (!sparse_ || g_.mass[static_cast<std::size_t>(k)] != 0.0) entries_.push_back(k);
+  });
   buf.clear();
-  for_each_entry(line0, line1, [&](const double* e, int w) { buf.insert(buf.end(), e, e + w); });
+  buf.push_back(static_cast<double>(entries_.size()));
+  for (const long k : entries_) buf.push_back(static_cast<double>(k));
+  for_each_sum(g_, layer_, [&](double* a, int w) {
+    for (const long k : entries_) {
+      const double* e = a + static_cast<std::size_t>(w) * static_cast<std::size_t>(k);
+      buf.insert(buf.end(), e, e + w);
+    }
+  });
+  largest_ = std::max(largest_, buf.size());
 }
 
 template <int D>
-void StripExchange<D>::unpack(long line0, long line1, const std::vector<double>& buf) {
-  std::size_t k = 0;
-  for_each_entry(line0, line1, [&](double* e, int w) {
-    for (int i = 0; i < w; ++i) e[i] = buf[k++];
+void StripExchange<D>::unpack(long line0, long line1, const double* buf, std::size_t size) {
+  if (size < 1) throw std::logic_error("StripExchange: an empty message");
+  const auto n = static_cast<std::size_t>(buf[0]);
+  if (size < 1 + n) throw std::logic_error("StripExchange: a message shorter than its entry list");
+  entries_.resize(n);
+  for (std::size_t j = 0; j < n; ++j) entries_[j] = static_cast<long>(buf[1 + j]);
+  // The entries this rank holds and the message leaves out hold nothing on the sender: zero them
+  // (before the message's masses arrive, which this test reads). Every entry of the lines is in the
+  // message's order, so one cursor walks both.
+  std::size_t next = 0;
+  for_each_node_field(line0, line1, [&](long k) {
+    if (next < n && entries_[next] == k) {
+      ++next;
+      return;
+    }
+    if (g_.mass[static_cast<std::size_t>(k)] != 0.0)
+      for_each_sum(g_, layer_, [&](double* a, int w) {
+        std::fill_n(a + static_cast<std::size_t>(w) * static_cast<std::size_t>(k), w, 0.0);
+      });
   });
-  if (k != buf.size()) throw std::logic_error("StripExchange: a message of another size than its lines");
+  if (next != n) throw std::logic_error("StripExchange: a message naming entries outside its lines");
+  std::size_t at = 1 + n;
+  for_each_sum(g_, layer_, [&](double* a, int w) {
+    for (const long k : entries_) {
+      double* e = a + static_cast<std::size_t>(w) * static_cast<std::size_t>(k);
+      for (int i = 0; i < w; ++i) e[i] = buf[at++];
+    }
+  });
+  if (at != size) throw std::logic_error("StripExchange: a message of another size than its entries");
 }
 
 template <int D>
 void StripExchange<D>::send_lines(int peer, long line0, long line1, int tag) {
-  std::vector<double> buf;
-  pack(line0, line1, buf);
-  MPI_Send(buf.data(), static_cast<int>(buf.size()), MPI_DOUBLE, peer, tag, comm_);
+  pack(line0, line1, out_);
+  MPI_Send(out_.data(), static_cast<int>(out_.size()), MPI_DOUBLE, peer, tag, comm_);
 }
 
 template <int D>
 void StripExchange<D>::receive_lines(int peer, long line0, long line1, int tag) {
-  std::vector<double> buf;
-  pack(line0, line1, buf);  // sized as the message
-  MPI_Recv(buf.data(), static_cast<int>(buf.size()), MPI_DOUBLE, peer, tag, comm_, MPI_STATUS_IGNORE);
-  unpack(line0, line1, buf);
+  const std::size_t cap = capacity(line0, line1);
+  if (in_.size() < cap) in_.resize(cap);
+  MPI_Status status;
+  MPI_Recv(in_.data(), static_cast<int>(cap), MPI_DOUBLE, peer, tag, comm_, &status);
+  int got = 0;
+  MPI_Get_count(&status, MPI_DOUBLE, &got);
+  unpack(line0, line1, in_.data(), static_cast<std::size_t>(got));
 }
 
 // The strays' order across ranks. After the parity phases each rank holds its own side of a zone
@@ -140,12 +186,18 @@ void StripExchange<D>::before_strays(long lo, long hi) {
     const long mine1 = z.peer_above ? std::min(z.line1, z.b - 2) : z.line1;
     const long theirs0 = z.peer_above ? std::max(z.line0, z.b + 2) : z.line0;
     const long theirs1 = z.peer_above ? z.line1 : std::min(z.line1, z.b - 2);
-    std::vector<double> out, in;
-    if (mine0 <= mine1) pack(mine0, mine1, out);
-    if (theirs0 <= theirs1) pack(theirs0, theirs1, in);
-    MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, z.peer, 10, in.data(),
-                 static_cast<int>(in.size()), MPI_DOUBLE, z.peer, 10, comm_, MPI_STATUS_IGNORE);
-    if (theirs0 <= theirs1) unpack(theirs0, theirs1, in);
+    out_.clear();
+    if (mine0 <= mine1) pack(mine0, mine1, out_);
+    const std::size_t cap = theirs0 <= theirs1 ? capacity(theirs0, theirs1) : 0;
+    if (in_.size() < cap) in_.resize(cap);
+    MPI_Status status;
+    MPI_Sendrecv(out_.data(), static_cast<int>(out_.size()), MPI_DOUBLE, z.peer, 10, in_.data(), static_cast<int>(cap),
+                 MPI_DOUBLE, z.peer, 10, comm_, &status);
+    if (theirs0 <= theirs1) {
+      int got = 0;
+      MPI_Get_count(&status, MPI_DOUBLE, &got);
+      unpack(theirs0, theirs1, in_.data(), static_cast<std::size_t>(got));
+    }
   }
   for (const Zone& z : zones_)
     if (z.active && !z.peer_above) receive_lines(z.peer, z.line0, z.line1, 11);
@@ -164,21 +216,25 @@ void StripExchange<D>::after_strays() {
 
 template <int D>
 void StripExchange<D>::after_phase(int phase) {
-  std::vector<MPI_Request> req;
+  MPI_Request req[2];
+  MPI_Status status[2];
+  const int n = static_cast<int>(cuts_.size());
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
     const Cut& c = cuts_[k];
-    MPI_Request r;
     if (c.sends_after == phase) {
       pack(c.line0, c.line0 + 2, send_[k]);
-      MPI_Isend(send_[k].data(), static_cast<int>(send_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &r);
+      MPI_Isend(send_[k].data(), static_cast<int>(send_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &req[k]);
     } else {
-      MPI_Irecv(recv_[k].data(), static_cast<int>(recv_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &r);
+      MPI_Irecv(recv_[k].data(), static_cast<int>(recv_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &req[k]);
     }
-    req.push_back(r);
   }
-  if (!req.empty()) MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  if (n > 0) MPI_Waitall(n, req, status);
   for (std::size_t k = 0; k < cuts_.size(); ++k)
-    if (cuts_[k].sends_after != phase) unpack(cuts_[k].line0, cuts_[k].line0 + 2, recv_[k]);
+    if (cuts_[k].sends_after != phase) {
+      int got = 0;
+      MPI_Get_count(&status[k], MPI_DOUBLE, &got);
+      unpack(cuts_[k].line0, cuts_[k].line0 + 2, recv_[k].data(), static_cast<std::size_t>(got));
+    }
 }
 
 template <int D>

@@ -8,6 +8,13 @@
 // to the other rank, which takes them as they are (its own even strips never reach them) and
 // scatters its odd strip on top; after the odd phase it sends the final lines back. Every node
 // then holds the one-process bits on both ranks.
+//
+// A message carries only the node-fields that hold mass on the sender (about a quarter of a line's
+// entries on the paper specimen): with a shape function whose gradient vanishes with its weight
+// (uGIMP, bspline2) an entry without mass holds no sum at all (Solver::reset_grid rests on the
+// same fact), so the receiver zeroes the entries it holds and the message leaves out, and ends with
+// the bits a message of every entry would give. The linear hat's gradient does not vanish with its
+// weight: `sparse` false sends every entry.
 #include <mpi.h>
 
 #include <vector>
@@ -22,9 +29,10 @@ template <int D>
 class StripExchange final : public ScatterExchange {
  public:
   // This rank owns strips [first_strip, end_strip) of `strips` strips `width` cells wide; `layer`
-  // holds the binder-layer sums (null or off: none).
+  // holds the binder-layer sums (null or off: none); `sparse`: messages of the mass-holding entries
+  // only (a shape function other than the linear hat).
   StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips, long first_strip,
-                long end_strip);
+                long end_strip, bool sparse);
   void after_phase(int phase) override;
   void before_strays(long lo, long hi) override;
   void after_strays() override;
@@ -35,8 +43,8 @@ class StripExchange final : public ScatterExchange {
   long end_strip() const override { return end_strip_; }
   std::vector<double> in_rank_order(const std::vector<double>& mine) override;
   void merge_field_owners(std::vector<std::int32_t>& owner) override;
-  // doubles one cut's lines hold (every field, every sum), the size of each message
-  std::size_t message_doubles() const { return send_[0].size(); }
+  // the largest message sent so far, doubles (its entries' indices included)
+  std::size_t message_doubles() const { return largest_; }
 
  private:
   struct Cut {
@@ -54,9 +62,10 @@ class StripExchange final : public ScatterExchange {
     long line0 = 0, line1 = -1;  // the lines they reach, within [lo, hi]
   };
   template <class F>
-  void for_each_entry(long line0, long line1, F&& f) const;  // node lines [line0, line1]
-  void pack(long line0, long line1, std::vector<double>& buf) const;
-  void unpack(long line0, long line1, const std::vector<double>& buf);
+  void for_each_node_field(long line0, long line1, F&& f) const;  // node lines [line0, line1]
+  std::size_t capacity(long line0, long line1) const;             // doubles of the largest message
+  void pack(long line0, long line1, std::vector<double>& buf);
+  void unpack(long line0, long line1, const double* buf, std::size_t size);  // a message of `size` doubles
   void send_lines(int peer, long line0, long line1, int tag);
   void receive_lines(int peer, long line0, long line1, int tag);
   MPI_Comm comm_;
@@ -66,7 +75,11 @@ class StripExchange final : public ScatterExchange {
   std::vector<Zone> zones_;  // the lower cut's first
   long first_line_ = 0, last_line_ = 0;
   long first_strip_ = 0, end_strip_ = 0;
-  std::vector<double> send_[2], recv_[2];
+  bool sparse_;
+  std::vector<double> send_[2], recv_[2];  // the parity exchange's, per cut
+  std::vector<double> out_, in_;           // the stray zones'
+  std::vector<long> entries_;              // the node-fields of the message being packed or unpacked
+  std::size_t largest_ = 0;
 };
 
 }  // namespace pbx

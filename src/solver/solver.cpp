@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "contact/field_contact.hpp"
 #include "contact/rigid_contact.hpp"
@@ -224,20 +225,49 @@ template <int D>
 void Solver<D>::reset_grid() {
   const auto timer = clock_.scope(Stage::reset);
   auto& g = sc_.grid;
-  const long n = static_cast<long>(g.mass.size());
   const bool gradients = track_gradients_, layers = sc_.layer_data.on();
   auto& sums = sc_.layer_data.sums;
   const bool all = sc_.settings.kernel == Kernel::linear;
-#pragma omp parallel for schedule(static)
-  for (long k = 0; k < n; ++k) {
-    if (!all && g.mass[k] == 0.0) continue;
-    g.mass[k] = 0.0;
-    g.mom[k].setZero();
-    g.moff[k].setZero();
-    g.force[k].setZero();
-    if (gradients) g.vgrad[k].setZero();
-    if (layers) sums.zero(static_cast<std::size_t>(k));
+  double* mass = g.mass.data();
+  Vec<D>*mom = g.mom.data(), *moff = g.moff.data(), *force = g.force.data(), *vgrad = g.vgrad.data();
+  for_each_visited_run([&](long b, long e) {
+    for (long k = b; k < e; ++k) {
+      if (!all && mass[k] == 0.0) continue;
+      mass[k] = 0.0;
+      mom[k].setZero();
+      moff[k].setZero();
+      force[k].setZero();
+      if (gradients) vgrad[k].setZero();
+      if (layers) sums.zero(static_cast<std::size_t>(k));
+    }
+  });
+}
+
+// The node-fields of the deformable fields on the node columns this process's node stages visit
+// (StripBins::visit_lo ... visit_hi), as runs f(begin, end) of consecutive indices: all of them in
+// one process (a block per thread); a decomposed run's rank leaves out the columns that neither its
+// particles nor its exchanges reach, which hold nothing on it (each rank keeps the whole grid, and
+// these loops cost every rank the whole grid's time before: docs/performance/engine.md, "Weak
+// scaling").
+template <int D>
+template <class F>
+void Solver<D>::for_each_visited_run(F&& f) {
+  const auto& g = sc_.grid;
+  const long nn = g.nodes(), nf = sc_.deformable_fields;
+  if (bins_.visit_lo == 0 && bins_.visit_hi == bins_.strips) {
+    const long n = nf * nn;
+#pragma omp parallel
+    {
+      const long t = omp_get_thread_num(), nt = omp_get_num_threads();
+      f(n * t / nt, n * (t + 1) / nt);
+    }
+    return;
   }
+  const long nx = g.n[0], lines = nf * (nn / nx);  // node lines along x, of every field
+  const long c0 = bins_.visit_lo == 0 ? 0 : bins_.visit_lo * bins_.width;
+  const long c1 = bins_.visit_hi >= bins_.strips ? nx : std::min(nx, bins_.visit_hi * bins_.width);
+#pragma omp parallel for schedule(static)
+  for (long l = 0; l < lines; ++l) f(l * nx + c0, l * nx + c1);
 }
 
 // The momentum as interpolated, before contact and forces change it: the base of the FLIP
@@ -246,9 +276,9 @@ template <int D>
 void Solver<D>::keep_interpolated_momentum() {
   const auto timer = clock_.scope(Stage::grid_update);
   auto& g = sc_.grid;
-  const long n = static_cast<long>(g.mom.size());
-#pragma omp parallel for schedule(static)
-  for (long k = 0; k < n; ++k) g.mom0[k] = g.mom[k];
+  const Vec<D>* mom = g.mom.data();
+  Vec<D>* mom0 = g.mom0.data();
+  for_each_visited_run([&](long b, long e) { std::copy(mom + b, mom + e, mom0 + b); });
 }
 
 template <int D>
@@ -490,29 +520,36 @@ template <int D>
 void Solver<D>::grid_update() {
   const auto timer = clock_.scope(Stage::grid_update);
   auto& g = sc_.grid;
-  const long n = static_cast<long>(sc_.deformable_fields) * g.nodes();
-  const double dt = dt_;
-#pragma omp parallel for schedule(static)
-  for (long k = 0; k < n; ++k)
-    if (g.mass[k] > mass_eps_) g.mom[k] += dt * g.force[k];
+  const double dt = dt_, eps = mass_eps_;
+  const double* mass = g.mass.data();
+  const Vec<D>* force = g.force.data();
+  Vec<D>* mom = g.mom.data();
+  for_each_visited_run([&](long b, long e) {
+    for (long k = b; k < e; ++k)
+      if (mass[k] > eps) mom[k] += dt * force[k];
+  });
 }
 
 template <int D>
 void Solver<D>::finalize_grid_velocities() {
   const auto timer = clock_.scope(Stage::grid_update);
   auto& g = sc_.grid;
-  const long n = static_cast<long>(sc_.deformable_fields) * g.nodes();
-#pragma omp parallel for schedule(static)
-  for (long k = 0; k < n; ++k) {
-    if (g.mass[k] > mass_eps_) {
-      const double inv_m = 1.0 / g.mass[k];
-      g.vel[k] = g.mom[k] * inv_m;
-      g.dvel[k] = (g.mom[k] - g.mom0[k]) * inv_m;
-    } else {
-      g.vel[k].setZero();
-      g.dvel[k].setZero();
+  const double eps = mass_eps_;
+  const double* mass = g.mass.data();
+  const Vec<D>*mom = g.mom.data(), *mom0 = g.mom0.data();
+  Vec<D>*vel = g.vel.data(), *dvel = g.dvel.data();
+  for_each_visited_run([&](long b, long e) {
+    for (long k = b; k < e; ++k) {
+      if (mass[k] > eps) {
+        const double inv_m = 1.0 / mass[k];
+        vel[k] = mom[k] * inv_m;
+        dvel[k] = (mom[k] - mom0[k]) * inv_m;
+      } else {
+        vel[k].setZero();
+        dvel[k].setZero();
+      }
     }
-  }
+  });
 }
 
 // G2P: particle velocity by the FLIP/PIC blend, and per integrator:

@@ -143,6 +143,10 @@ class Solver {
   void keep_contact_velocities();
   Scatter<D> scatter(bool mass_momentum, bool forces);
   void setup_strips();
+  // f(begin, end) over the node-fields of the deformable fields this process's node stages visit
+  // (solver.cpp)
+  template <class F>
+  void for_each_visited_run(F&& f);
   // The strays' serial scatter, hand(p) per stray in index order; in a decomposed run every rank
   // takes it with the stray zones' exchange when any rank has a stray.
   template <class F>

@@ -104,8 +104,9 @@ struct RankRun {
     keep_particle_range(mine, static_cast<std::size_t>(sb[static_cast<std::size_t>(first)]),
                         static_cast<std::size_t>(sb[static_cast<std::size_t>(end)]));
     local = std::make_unique<Solver<2>>(mine);
-    exchange = std::make_unique<StripExchange<2>>(MPI_COMM_WORLD, mine.grid, &mine.layer_data.sums, one.strips().width,
-                                                  one.strips().strips, first, end);
+    exchange =
+        std::make_unique<StripExchange<2>>(MPI_COMM_WORLD, mine.grid, &mine.layer_data.sums, one.strips().width,
+                                           one.strips().strips, first, end, mine.settings.kernel != Kernel::linear);
     local->set_scatter_exchange(exchange.get(), one.mass_threshold());
   }
   std::size_t offset() const { return static_cast<std::size_t>(one.strips().begin[static_cast<std::size_t>(first)]); }
