@@ -214,27 +214,49 @@ void StripExchange<D>::after_strays() {
     if (z.active && !z.peer_above) send_lines(z.peer, z.line0, z.line1, 12);
 }
 
+// A cut's two messages: the side whose strip at the cut is even ("first", sends_after 0) sends its
+// lines once that strip is scattered (tag 0); the other side takes them before it scatters its odd
+// strip at the cut on top, and sends the final lines back (tag 1). Both receives are posted at the
+// start, so a message lands while its receiver works, and a rank waits only when the other side's
+// lead strip is later than all its own work before the receive.
 template <int D>
-void StripExchange<D>::after_phase(int phase) {
-  MPI_Request req[2];
-  MPI_Status status[2];
-  const int n = static_cast<int>(cuts_.size());
+void StripExchange<D>::start_scatter() {
+  for (std::size_t k = 0; k < cuts_.size(); ++k)
+    MPI_Irecv(recv_[k].data(), static_cast<int>(recv_[k].size()), MPI_DOUBLE, cuts_[k].peer,
+              cuts_[k].sends_after == 0 ? 1 : 0, comm_, &recv_req_[k]);
+}
+
+template <int D>
+void StripExchange<D>::take(std::size_t k) {
+  MPI_Status status;
+  MPI_Wait(&recv_req_[k], &status);
+  int got = 0;
+  MPI_Get_count(&status, MPI_DOUBLE, &got);
+  unpack(cuts_[k].line0, cuts_[k].line0 + 2, recv_[k].data(), static_cast<std::size_t>(got));
+}
+
+template <int D>
+void StripExchange<D>::before_lead(int phase) {
+  if (phase == 1)
+    for (std::size_t k = 0; k < cuts_.size(); ++k)
+      if (cuts_[k].sends_after == 1) take(k);
+}
+
+template <int D>
+void StripExchange<D>::after_lead(int phase) {
   for (std::size_t k = 0; k < cuts_.size(); ++k) {
     const Cut& c = cuts_[k];
-    if (c.sends_after == phase) {
-      pack(c.line0, c.line0 + 2, send_[k]);
-      MPI_Isend(send_[k].data(), static_cast<int>(send_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &req[k]);
-    } else {
-      MPI_Irecv(recv_[k].data(), static_cast<int>(recv_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &req[k]);
-    }
+    if (c.sends_after != phase) continue;
+    pack(c.line0, c.line0 + 2, send_[k]);
+    MPI_Isend(send_[k].data(), static_cast<int>(send_[k].size()), MPI_DOUBLE, c.peer, phase, comm_, &send_req_[k]);
   }
-  if (n > 0) MPI_Waitall(n, req, status);
+}
+
+template <int D>
+void StripExchange<D>::finish_scatter() {
   for (std::size_t k = 0; k < cuts_.size(); ++k)
-    if (cuts_[k].sends_after != phase) {
-      int got = 0;
-      MPI_Get_count(&status[k], MPI_DOUBLE, &got);
-      unpack(cuts_[k].line0, cuts_[k].line0 + 2, recv_[k].data(), static_cast<std::size_t>(got));
-    }
+    if (cuts_[k].sends_after == 0) take(k);
+  for (std::size_t k = 0; k < cuts_.size(); ++k) MPI_Wait(&send_req_[k], MPI_STATUS_IGNORE);
 }
 
 template <int D>

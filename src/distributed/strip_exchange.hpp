@@ -3,11 +3,12 @@
 // over many ranks", item 2). Across the cut at strip boundary s (strip s - 1 on the rank below,
 // strip s on the rank above) the particles of both strips reach the three node lines b - 1, b,
 // b + 1 (b = s x width, a particle reaches one line below its cell and two above). One process sums
-// the even strip of the two first, then the odd one on top. So after the even phase the rank
-// holding the even strip sends those lines (every deformable field, every sum the scatter makes)
-// to the other rank, which takes them as they are (its own even strips never reach them) and
-// scatters its odd strip on top; after the odd phase it sends the final lines back. Every node
-// then holds the one-process bits on both ranks.
+// the even strip of the two first, then the odd one on top. So once its even strip at the cut is
+// scattered (the first of its phase, StripBins::visit_order) the rank holding it sends those lines
+// (every deformable field, every sum the scatter makes) to the other rank, which takes them as they
+// are (its own even strips never reach them) and scatters its odd strip at the cut on top, first
+// of its odd phase, and sends the final lines back. Every node then holds the one-process bits on
+// both ranks; the messages travel while the ranks scatter their other strips.
 //
 // A message carries only the node-fields that hold mass on the sender (about a quarter of a line's
 // entries on the paper specimen): with a shape function whose gradient vanishes with its weight
@@ -33,7 +34,10 @@ class StripExchange final : public ScatterExchange {
   // only (a shape function other than the linear hat).
   StripExchange(MPI_Comm comm, Grid<D>& grid, LayerSums<D>* layer, long width, long strips, long first_strip,
                 long end_strip, bool sparse);
-  void after_phase(int phase) override;
+  void start_scatter() override;
+  void before_lead(int phase) override;
+  void after_lead(int phase) override;
+  void finish_scatter() override;
   void before_strays(long lo, long hi) override;
   void after_strays() override;
   double max(double local) override;
@@ -66,6 +70,7 @@ class StripExchange final : public ScatterExchange {
   std::size_t capacity(long line0, long line1) const;             // doubles of the largest message
   void pack(long line0, long line1, std::vector<double>& buf);
   void unpack(long line0, long line1, const double* buf, std::size_t size);  // a message of `size` doubles
+  void take(std::size_t cut);  // waits for the cut's posted receive and unpacks it
   void send_lines(int peer, long line0, long line1, int tag);
   void receive_lines(int peer, long line0, long line1, int tag);
   MPI_Comm comm_;
@@ -77,8 +82,9 @@ class StripExchange final : public ScatterExchange {
   long first_strip_ = 0, end_strip_ = 0;
   bool sparse_;
   std::vector<double> send_[2], recv_[2];  // the parity exchange's, per cut
-  std::vector<double> out_, in_;           // the stray zones'
-  std::vector<long> entries_;              // the node-fields of the message being packed or unpacked
+  MPI_Request send_req_[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL}, recv_req_[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
+  std::vector<double> out_, in_;  // the stray zones'
+  std::vector<long> entries_;     // the node-fields of the message being packed or unpacked
   std::size_t largest_ = 0;
 };
 

@@ -43,6 +43,7 @@ struct StripBins {
     strips = std::max(1L, (cells_x + width - 1) / width);
     own_lo = visit_lo = 0;
     own_hi = visit_hi = strips;
+    lead_with({});
   }
   // The strips of a grid (its cells along x), all of them this process's.
   template <int D>
@@ -88,6 +89,21 @@ struct StripBins {
   long phase_strip(int phase, long k) const {
     const long half = (phase_size(phase) + 1) / 2;
     return phase + 2 * (k % 2 == 0 ? k / 2 : half + k / 2);
+  }
+  // The order a scatter visits its strips, in four parts: k = 2 x phase + 0, the phase's strips at
+  // a decomposed run's cuts (`lead`), whose node lines the neighbouring rank needs, so they leave as
+  // soon as they are made and travel while the rest of the phase runs; k = 2 x phase + 1, the
+  // phase's other strips in phase_strip's order (in one process, all of them). Strips of one phase
+  // touch no common node, so the order changes no sum.
+  const std::vector<long>& visit_order(int k) const { return order_[static_cast<std::size_t>(k)]; }
+  void lead_with(const std::vector<long>& lead) {
+    for (auto& o : order_) o.clear();
+    for (int phase = 0; phase < 2; ++phase)
+      for (long k = 0; k < phase_size(phase); ++k) {
+        const long s = phase_strip(phase, k);
+        const bool leads = std::find(lead.begin(), lead.end(), s) != lead.end();
+        order_[static_cast<std::size_t>(2 * phase + (leads ? 0 : 1))].push_back(s);
+      }
   }
   // Strip s as a domain: its cells' node columns (the outer strips to the grid's edges), every node
   // along the other axes. Two strips of one parity have disjoint reach when width >= 3 (test).
@@ -141,6 +157,9 @@ struct StripBins {
     for (std::size_t p = 0; p < stray.size(); ++p)
       if (stray[p]) strays.push_back(static_cast<std::uint32_t>(p));
   }
+
+ private:
+  std::vector<long> order_[4];  // visit_order
 };
 
 }  // namespace pbx

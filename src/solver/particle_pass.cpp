@@ -55,10 +55,13 @@ void Solver<D>::particle_pass_impl() {
   const auto wall0 = Clock::now();
   double t_g2p = 0, t_stress = 0, t_p2g = 0;
   auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
-  for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : vmax2, moved) reduction(min : bad_v, bad_s, left) reduction(+ : strays, t_g2p, t_stress, t_p2g)
-    for (long k = 0; k < bins_.phase_size(phase); ++k) {
-      const long s = bins_.phase_strip(phase, k);
+  if (exchange_) exchange_->start_scatter();
+  for (int part = 0; part < 4; ++part) {  // each phase's lead strips, then its others (StripBins::visit_order)
+    if (exchange_ && part % 2 == 0) exchange_->before_lead(part / 2);
+    const std::vector<long>& order = bins_.visit_order(part);
+#pragma omp parallel for schedule(dynamic, 1) if (!order.empty()) reduction(max : vmax2, moved) reduction(min : bad_v, bad_s, left) reduction(+ : strays, t_g2p, t_stress, t_p2g)
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const long s = order[k];
       const long b = bins_.begin[static_cast<std::size_t>(s)], e = bins_.begin[static_cast<std::size_t>(s + 1)];
       std::vector<long> cursor(nm), count(nm);  // batch position of the chunk's first particle, per material
       for (std::size_t m = 0; m < nm; ++m) cursor[m] = batch_begin_[m][static_cast<std::size_t>(s)];
@@ -130,8 +133,9 @@ void Solver<D>::particle_pass_impl() {
         t_p2g += seconds(c_stress, Clock::now());
       }
     }
-    if (exchange_) exchange_->after_phase(phase);
+    if (exchange_ && part % 2 == 0) exchange_->after_lead(part / 2);
   }
+  if (exchange_) exchange_->finish_scatter();
   const auto wall1 = Clock::now();
   clock_.split_pass(seconds(wall0, wall1), t_g2p, t_stress, t_p2g);
   bins_.collect_strays(strays);

@@ -1,9 +1,11 @@
 #pragma once
 // The nodal sums of a scatter pass completed across the ranks of a decomposed run
 // (docs/architecture.md, "One run over many ranks"). A scatter runs its even strips, then its odd
-// strips (grid/strip_bins.hpp); the solver calls after_phase(0) between the two and after_phase(1)
-// after the odd ones, and the exchange moves the node lines two ranks share so that every node
-// receives its sums in the one-process order. The solver holds a null pointer in a run of one
+// strips, each phase's strips at the rank's cuts first (StripBins::visit_order); the exchange
+// moves the node lines two ranks share so that every node receives its sums in the one-process
+// order, while the rest of each phase runs:
+//   start_scatter(); for phase 0, 1: before_lead(phase), the lead strips, after_lead(phase), the
+//   others; finish_scatter(). The solver holds a null pointer in a run of one
 // process. An interface (one virtual call per phase, never per particle), so the time step needs
 // no MPI: the implementation lives in src/distributed/. It is also the reductions' gather of every
 // rank's parts of a sum (core/parallel.hpp): a rank's strips are a contiguous range of them.
@@ -17,7 +19,11 @@ namespace pbx {
 class ScatterExchange : public PartGather {
  public:
   virtual ~ScatterExchange() = default;
-  virtual void after_phase(int phase) = 0;
+  virtual void start_scatter() = 0;         // posts the receives
+  virtual void before_lead(int phase) = 0;  // the lines a lead strip of this phase adds to
+  virtual void after_lead(int phase) = 0;   // sends the lines the lead strips made
+  virtual void finish_scatter() = 0;        // the final lines from the other side
+
   // Around the strays' serial scatter (taken by every rank when any rank has a stray): before, the
   // zone of 2 x width + 4 node lines around each cut is completed with the neighbour's sums and
   // the sums of the lower ranks' strays; after, this rank's strays go on up the ranks and the final

@@ -111,6 +111,11 @@ void Solver<D>::set_scatter_exchange(ScatterExchange* exchange, double mass_thre
   bins_.visit_lo = std::max(0L, bins_.own_lo - 2);
   bins_.visit_hi = std::min(bins_.strips, bins_.own_hi + 2);
   bins_.gather = exchange_;
+  // the strips at the rank's cuts lead their phases (their lines go to the neighbours)
+  std::vector<long> lead;
+  if (exchange_ && bins_.own_lo > 0) lead.push_back(bins_.own_lo);
+  if (exchange_ && bins_.own_hi < bins_.strips) lead.push_back(bins_.own_hi - 1);
+  bins_.lead_with(lead);
   if (exchange_) vmax_ = exchange_->max(vmax_);
 }
 
@@ -314,16 +319,20 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   const double inv_h = 1.0 / g.h;
   const HalfWidth a(half_width_);
   const Scatter<D> scatter_one = scatter(mass_momentum, forces);
-  for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(dynamic, 1)
-    for (long k = 0; k < bins_.phase_size(phase); ++k) {
-      const long s = bins_.phase_strip(phase, k);
+  if (exchange_) exchange_->start_scatter();
+  for (int part = 0; part < 4; ++part) {
+    if (exchange_ && part % 2 == 0) exchange_->before_lead(part / 2);
+    const std::vector<long>& order = bins_.visit_order(part);
+#pragma omp parallel for schedule(dynamic, 1) if (!order.empty())
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const long s = order[k];
       for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
         if (!bins_.stray[static_cast<std::size_t>(p)])
           scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
     }
-    if (exchange_) exchange_->after_phase(phase);
+    if (exchange_ && part % 2 == 0) exchange_->after_lead(part / 2);
   }
+  if (exchange_) exchange_->finish_scatter();
   scatter_strays([&](std::uint32_t p) { scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped)); });
 }
 
@@ -479,15 +488,19 @@ void Solver<D>::spring_impulses_impl() {
   };
   // The scatter's parity phases and serial strays (grid/strip_bins.hpp): race-free, and the sum
   // order at every node fixed by storage order and positions, whatever the thread count.
-  for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(dynamic, 1)
-    for (long k = 0; k < bins_.phase_size(phase); ++k) {
-      const long s = bins_.phase_strip(phase, k);
+  if (exchange_) exchange_->start_scatter();
+  for (int part = 0; part < 4; ++part) {
+    if (exchange_ && part % 2 == 0) exchange_->before_lead(part / 2);
+    const std::vector<long>& order = bins_.visit_order(part);
+#pragma omp parallel for schedule(dynamic, 1) if (!order.empty())
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const long s = order[k];
       for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
         if (!bins_.stray[static_cast<std::size_t>(p)]) hand(static_cast<std::size_t>(p));
     }
-    if (exchange_) exchange_->after_phase(phase);
+    if (exchange_ && part % 2 == 0) exchange_->after_lead(part / 2);
   }
+  if (exchange_) exchange_->finish_scatter();
   scatter_strays(hand);
   // leave the buffers zero for the next pass (only the flagged nodes were written)
   const long nf = sc_.deformable_fields;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <random>
 #include <set>
+#include <vector>
 
 #include "grid/shape.hpp"
 #include "grid/strip_bins.hpp"
@@ -48,6 +49,30 @@ TEST(StripBins, PhasesVisitEachStripOnceAndSpreadTheStart) {
     EXPECT_EQ(static_cast<long>(seen.size()), b.strips);
     for (long s = 0; s < b.strips; ++s) EXPECT_EQ(seen.count(s), 1u) << "strip " << s;
   }
+}
+
+// The scatter's visit order (visit_order): in one process each phase's strips in phase_strip's
+// order and no lead part; with lead strips (a decomposed run's strips at its cuts) those come first
+// in the part of their own parity, and every strip is still visited once, in its parity's phase.
+TEST(StripBins, VisitOrderLeadsWithTheCutStripsAndVisitsEachOnce) {
+  StripBins b;
+  b.setup(120);  // 3-cell strips, 40 of them
+  for (int phase = 0; phase < 2; ++phase) {
+    EXPECT_TRUE(b.visit_order(2 * phase).empty());
+    ASSERT_EQ(static_cast<long>(b.visit_order(2 * phase + 1).size()), b.phase_size(phase));
+    for (long k = 0; k < b.phase_size(phase); ++k)
+      EXPECT_EQ(b.visit_order(2 * phase + 1)[static_cast<std::size_t>(k)], b.phase_strip(phase, k));
+  }
+  b.lead_with({13, 26});  // a rank owning strips 13 ... 26
+  EXPECT_EQ(b.visit_order(0), std::vector<long>{26});
+  EXPECT_EQ(b.visit_order(2), std::vector<long>{13});
+  std::multiset<long> seen;
+  for (int part = 0; part < 4; ++part)
+    for (const long s : b.visit_order(part)) {
+      EXPECT_EQ(s % 2, part / 2) << "strip " << s << " in part " << part;
+      seen.insert(s);
+    }
+  for (long s = 0; s < b.strips; ++s) EXPECT_EQ(seen.count(s), 1u) << "strip " << s;
 }
 
 namespace {
