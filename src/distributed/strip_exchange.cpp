@@ -85,9 +85,15 @@ void StripExchange<D>::for_each_node_field(long line0, long line1, F&& f) const 
 // A message: the count n of its entries, their n node-field indices, then each sum's values for
 // those entries (for_each_sum's order). Indices travel as doubles (exact below 2^53).
 template <int D>
+std::size_t StripExchange<D>::entry_doubles() const {
+  std::size_t n = 1;  // its index
+  for_each_sum(g_, layer_, [&](double*, int w) { n += static_cast<std::size_t>(w); });
+  return n;
+}
+
+template <int D>
 std::size_t StripExchange<D>::capacity(long line0, long line1) const {
-  std::size_t per_entry = 1;  // its index
-  for_each_sum(g_, layer_, [&](double*, int w) { per_entry += static_cast<std::size_t>(w); });
+  const std::size_t per_entry = entry_doubles();
   const auto entries = static_cast<std::size_t>(g_.deformable) * static_cast<std::size_t>(g_.nodes() / g_.n[0]) *
                        static_cast<std::size_t>(line1 - line0 + 1);
   return 1 + entries * per_entry;
@@ -113,9 +119,10 @@ void StripExchange<D>::pack(long line0, long line1, std::vector<double>& buf) {
 
 template <int D>
 void StripExchange<D>::unpack(long line0, long line1, const double* buf, std::size_t size) {
-  if (size < 1) throw std::logic_error("StripExchange: an empty message");
-  const auto n = static_cast<std::size_t>(buf[0]);
-  if (size < 1 + n) throw std::logic_error("StripExchange: a message shorter than its entry list");
+  const std::size_t per_entry = entry_doubles();
+  const std::size_t n = size >= 1 ? static_cast<std::size_t>(buf[0]) : 0;
+  if (size < 1 || size != 1 + n * per_entry)
+    throw std::logic_error("StripExchange: a message whose size does not match its entry count");
   entries_.resize(n);
   for (std::size_t j = 0; j < n; ++j) entries_[j] = static_cast<long>(buf[1 + j]);
   // The entries this rank holds and the message leaves out hold nothing on the sender: zero them
@@ -140,7 +147,6 @@ void StripExchange<D>::unpack(long line0, long line1, const double* buf, std::si
       for (int i = 0; i < w; ++i) e[i] = buf[at++];
     }
   });
-  if (at != size) throw std::logic_error("StripExchange: a message of another size than its entries");
 }
 
 template <int D>

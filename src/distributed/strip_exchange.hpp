@@ -67,6 +67,7 @@ class StripExchange final : public ScatterExchange {
   };
   template <class F>
   void for_each_node_field(long line0, long line1, F&& f) const;  // node lines [line0, line1]
+  std::size_t entry_doubles() const;                              // an entry's index and sums
   std::size_t capacity(long line0, long line1) const;             // doubles of the largest message
   void pack(long line0, long line1, std::vector<double>& buf);
   void unpack(long line0, long line1, const double* buf, std::size_t size);  // a message of `size` doubles
