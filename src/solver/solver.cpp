@@ -86,6 +86,29 @@ void Solver<D>::setup_strips() {
   locate_particles();
 }
 
+// f(p) for every particle in its home strip, in the scatter's parity phases (grid/strip_bins.hpp:
+// race-free, the sum order at every node fixed by storage order and positions, whatever the thread
+// count), each phase led by the rank's strips at its cuts in a decomposed run, whose exchange
+// completes the shared node lines meanwhile (solver/scatter_exchange.hpp). The strays follow
+// (scatter_strays).
+template <int D>
+template <class F>
+void Solver<D>::scatter_home(F&& f) {
+  if (exchange_) exchange_->start_scatter();
+  for (int part = 0; part < 4; ++part) {
+    if (exchange_ && part % 2 == 0) exchange_->before_lead(part / 2);
+    const std::vector<long>& order = bins_.visit_order(part);
+#pragma omp parallel for schedule(dynamic, 1) if (!order.empty())
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const long s = order[k];
+      for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
+        if (!bins_.stray[static_cast<std::size_t>(p)]) f(p);
+    }
+    if (exchange_ && part % 2 == 0) exchange_->after_lead(part / 2);
+  }
+  if (exchange_) exchange_->finish_scatter();
+}
+
 // Stray flags after positions were set from outside the step (construction, restart).
 template <int D>
 void Solver<D>::locate_particles() {
@@ -319,20 +342,9 @@ void Solver<D>::p2g_impl(bool mass_momentum, bool forces) {
   const double inv_h = 1.0 / g.h;
   const HalfWidth a(half_width_);
   const Scatter<D> scatter_one = scatter(mass_momentum, forces);
-  if (exchange_) exchange_->start_scatter();
-  for (int part = 0; part < 4; ++part) {
-    if (exchange_ && part % 2 == 0) exchange_->before_lead(part / 2);
-    const std::vector<long>& order = bins_.visit_order(part);
-#pragma omp parallel for schedule(dynamic, 1) if (!order.empty())
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      const long s = order[k];
-      for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
-        if (!bins_.stray[static_cast<std::size_t>(p)])
-          scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
-    }
-    if (exchange_ && part % 2 == 0) exchange_->after_lead(part / 2);
-  }
-  if (exchange_) exchange_->finish_scatter();
+  scatter_home([&](long p) {
+    scatter_one(static_cast<std::uint32_t>(p), make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped));
+  });
   scatter_strays([&](std::uint32_t p) { scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped)); });
 }
 
@@ -488,19 +500,7 @@ void Solver<D>::spring_impulses_impl() {
   };
   // The scatter's parity phases and serial strays (grid/strip_bins.hpp): race-free, and the sum
   // order at every node fixed by storage order and positions, whatever the thread count.
-  if (exchange_) exchange_->start_scatter();
-  for (int part = 0; part < 4; ++part) {
-    if (exchange_ && part % 2 == 0) exchange_->before_lead(part / 2);
-    const std::vector<long>& order = bins_.visit_order(part);
-#pragma omp parallel for schedule(dynamic, 1) if (!order.empty())
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      const long s = order[k];
-      for (long p = bins_.begin[static_cast<std::size_t>(s)]; p < bins_.begin[static_cast<std::size_t>(s + 1)]; ++p)
-        if (!bins_.stray[static_cast<std::size_t>(p)]) hand(static_cast<std::size_t>(p));
-    }
-    if (exchange_ && part % 2 == 0) exchange_->after_lead(part / 2);
-  }
-  if (exchange_) exchange_->finish_scatter();
+  scatter_home([&](long p) { hand(static_cast<std::size_t>(p)); });
   scatter_strays(hand);
   // leave the buffers zero for the next pass (only the flagged nodes were written)
   const long nf = sc_.deformable_fields;

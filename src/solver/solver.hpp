@@ -143,6 +143,9 @@ class Solver {
   void keep_contact_velocities();
   Scatter<D> scatter(bool mass_momentum, bool forces);
   void setup_strips();
+  // f(p) for every home particle, in the scatter's parity phases (solver.cpp)
+  template <class F>
+  void scatter_home(F&& f);
   // f(begin, end) over the node-fields of the deformable fields this process's node stages visit
   // (solver.cpp)
   template <class F>
