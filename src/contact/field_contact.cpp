@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -119,9 +120,13 @@ template <int D>
 template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally, bool after_update, double* layer_energy, const LayerSums<D>* layer_sums,
-                     SpringImpulses<D>* springs, const StripBins* strips) {
-  if (layer_energy) *layer_energy = 0.0;
-  if (deformable < 2) return 0.0;
+                     SpringImpulses<D>* springs, const StripBins* strips,
+                     const std::function<void(double)>& book_work) {
+  if (deformable < 2) {
+    if (layer_energy) *layer_energy = 0.0;
+    if (book_work) book_work(0.0);
+    return 0.0;
+  }
   // a binder_layer law without the sums its springs read would act as Coulomb without a word
   if (cm.has_layers() && layer_sums == nullptr)
     throw std::logic_error("field_contact: the contact matrix has binder_layer pairs but no layer sums were given");
@@ -134,7 +139,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
 
   const StripBins bins_of_grid = strips ? StripBins{} : StripBins::of_grid(grid);
   const StripBins& bins = strips ? *strips : bins_of_grid;
-  PassSums<D> sums = bins.fold(zero, [&](long s, PassSums<D>& out) {
+  auto pass = [&](long s, PassSums<D>& out) {
     double& work = out.work;
     // Half of the impulse d on field a, booked to the pair (a, partner): both sides of a pair
     // book the same exchange.
@@ -235,17 +240,32 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
         }
       }
     });
+  };
+  // the books, once the pass's sums are known (at once, or at a decomposed run's next settle)
+  auto book = [tally, layer_energy, book_work](const PassSums<D>& sums) {
+    if (tally) *tally += sums.tally;
+    if (layer_energy) *layer_energy = sums.energy;
+    if (book_work) book_work(sums.work);
+  };
+  if (bins.deferred && bins.deferred->defers()) {
+    bins.fold_then(zero, pass, book);
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  double work = 0;
+  bins.fold_then(zero, pass, [&](const PassSums<D>& sums) {
+    book(sums);
+    work = sums.work;
   });
-  if (tally) *tally += sums.tally;
-  if (layer_energy) *layer_energy = sums.energy;
-  return sums.work;
+  return work;
 }
 
 template void weld_fields<2>(Grid<2>&, int, double);
 template void weld_fields<3>(Grid<3>&, int, double);
 template double field_contact<2>(Grid<2>&, const ContactMatrix&, int, double, double, ContactTally<2>*, bool, double*,
-                                 const LayerSums<2>*, SpringImpulses<2>*, const StripBins*);
+                                 const LayerSums<2>*, SpringImpulses<2>*, const StripBins*,
+                                 const std::function<void(double)>&);
 template double field_contact<3>(Grid<3>&, const ContactMatrix&, int, double, double, ContactTally<3>*, bool, double*,
-                                 const LayerSums<3>*, SpringImpulses<3>*, const StripBins*);
+                                 const LayerSums<3>*, SpringImpulses<3>*, const StripBins*,
+                                 const std::function<void(double)>&);
 
 }  // namespace pbx

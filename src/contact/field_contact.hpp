@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 // Contact between deformable velocity fields at shared nodes (the paper's Eq. 6-7 in Nairn's
 // momentum form of Bardenhagen et al. 2000/2001). docs/theory/contact.md states the law exactly as
 // implemented; in short, at a node where field a meets the rest r of the fields:
@@ -36,7 +37,10 @@ void weld_fields(Grid<D>& grid, int deformable, double mass_eps);
 // instead of into the momenta, and the node is flagged: the caller hands them through the particles
 // that define the springs' jumps (Solver::spring_impulses_through_particles).
 // The sums (work, energy, tally) are taken strip by strip over `strips` (grid/strip_bins.hpp; null:
-// the grid's strips, all this process's), in a decomposed run over its ranks.
+// the grid's strips, all this process's), in a decomposed run over its ranks. With book_work, the
+// work is also handed to it. Where `strips` defer their sums (a decomposed run's books,
+// StripBins::fold_then), the tally, the layer energy and book_work receive them at the next
+// settle, and the return value is NaN: the work is known only through book_work.
 template <int D>
 struct SpringImpulses {
   std::vector<Vec<D>> impulse;     // per node-field; zero on entry
@@ -53,6 +57,6 @@ template <int D>
 double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, double dt, double mass_eps,
                      ContactTally<D>* tally = nullptr, bool after_update = false, double* layer_energy = nullptr,
                      const LayerSums<D>* layer_sums = nullptr, SpringImpulses<D>* springs = nullptr,
-                     const StripBins* strips = nullptr);
+                     const StripBins* strips = nullptr, const std::function<void(double)>& book_work = {});
 
 }  // namespace pbx

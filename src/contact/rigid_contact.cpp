@@ -36,7 +36,8 @@ struct BodySums {
 
 template <int D>
 void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t, double mass_eps,
-                   const std::vector<long>& body_nodes, RigidContactResult<D>& out, const StripBins* strips) {
+                   const std::vector<long>& body_nodes, const std::function<void(const RigidContactResult<D>&)>& book,
+                   const StripBins* strips) {
   const long nn = grid.nodes();
   const std::size_t nb = bodies.size();
   std::vector<Vec<D>> vb(nb);
@@ -56,7 +57,7 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
   std::vector<std::vector<long>> by_strip(static_cast<std::size_t>(bins.strips));
   for (const long i : body_nodes) by_strip[static_cast<std::size_t>(bins.strip_of_cell(i % grid.n[0]))].push_back(i);
 
-  BodySums<D> sums = bins.fold(BodySums<D>(nb), [&](long strip, BodySums<D>& s) {
+  auto pass = [&](long strip, BodySums<D>& s) {
     for (const long i : by_strip[static_cast<std::size_t>(strip)]) {
       for (std::size_t b = 0; b < nb; ++b) {
         if (presence[b][i] <= 0.0) continue;
@@ -85,15 +86,15 @@ void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deforma
         }
       }
     }
+  };
+  bins.fold_then(BodySums<D>(nb), pass, [book](const BodySums<D>& sums) {
+    if (book) book(RigidContactResult<D>{sums.impulse, sums.work, sums.friction});
   });
-  out.impulse = std::move(sums.impulse);
-  out.work = std::move(sums.work);
-  out.friction_work = std::move(sums.friction);
 }
 
 template void rigid_contact<2>(Grid<2>&, std::vector<RigidBody<2>>&, int, double, double, const std::vector<long>&,
-                               RigidContactResult<2>&, const StripBins*);
+                               const std::function<void(const RigidContactResult<2>&)>&, const StripBins*);
 template void rigid_contact<3>(Grid<3>&, std::vector<RigidBody<3>>&, int, double, double, const std::vector<long>&,
-                               RigidContactResult<3>&, const StripBins*);
+                               const std::function<void(const RigidContactResult<3>&)>&, const StripBins*);
 
 }  // namespace pbx

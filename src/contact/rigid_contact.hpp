@@ -9,6 +9,7 @@
 // field mass centre lies within `cutoff` cells of the face (position check).
 // A `stick` body always imposes v_a = v_b. Impulses are added to the body's record so that the
 // reaction force is exactly the momentum exchanged.
+#include <functional>
 #include <vector>
 
 #include "bodies/rigid_body.hpp"
@@ -24,14 +25,16 @@ struct RigidContactResult {
   std::vector<double> friction_work;
 };
 
-// Applies the rigid contacts on the momenta `grid.mom` of fields [0, deformable). Returns the
-// impulses per body (to be recorded when the pass changes particle momentum). `body_nodes` lists,
-// ascending, every node where some body is present (grid.presence > 0); the other nodes are not
-// visited. The impulse sums are taken strip by strip over `strips` (grid/strip_bins.hpp; null: the
-// grid's strips, all this process's), so they do not depend on the list, the thread count or, in a
-// decomposed run, the rank count.
+// Applies the rigid contacts on the momenta `grid.mom` of fields [0, deformable), and hands the
+// impulses, work and friction work per body to `book` (if set; to be recorded when the pass
+// changes particle momentum). `body_nodes` lists, ascending, every node where some body is present
+// (grid.presence > 0); the other nodes are not visited. The sums are taken strip by strip over
+// `strips` (grid/strip_bins.hpp; null: the grid's strips, all this process's), so they do not depend
+// on the list, the thread count or, in a decomposed run, the rank count; `book` receives them at
+// once, or where `strips` defer their sums (StripBins::fold_then), at the next settle.
 template <int D>
 void rigid_contact(Grid<D>& grid, std::vector<RigidBody<D>>& bodies, int deformable, double t, double mass_eps,
-                   const std::vector<long>& body_nodes, RigidContactResult<D>& out, const StripBins* strips = nullptr);
+                   const std::vector<long>& body_nodes, const std::function<void(const RigidContactResult<D>&)>& book,
+                   const StripBins* strips = nullptr);
 
 }  // namespace pbx

@@ -273,6 +273,11 @@ double StripExchange<D>::max(double local) {
 }
 
 template <int D>
+void StripExchange<D>::max_each(std::span<double> local) {
+  MPI_Allreduce(MPI_IN_PLACE, local.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_MAX, comm_);
+}
+
+template <int D>
 std::vector<double> StripExchange<D>::in_rank_order(const std::vector<double>& mine) {
   int size = 1;
   MPI_Comm_size(comm_, &size);

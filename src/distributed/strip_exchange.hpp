@@ -41,6 +41,7 @@ class StripExchange final : public ScatterExchange {
   void before_strays(long lo, long hi) override;
   void after_strays() override;
   double max(double local) override;
+  void max_each(std::span<double> local) override;
   long first_line() const override { return first_line_; }
   long last_line() const override { return last_line_; }
   long first_strip() const override { return first_strip_; }

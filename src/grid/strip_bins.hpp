@@ -33,6 +33,7 @@ struct StripBins {
   // own, with the gather of the other ranks' parts (fold below).
   long own_lo = 0, own_hi = 0;
   PartGather* gather = nullptr;
+  DeferredSums* deferred = nullptr;  // where fold_then's sums wait (null: booked at once)
   // The strips whose nodes this process's node stages visit: all of them, or a rank's own and the
   // two beyond each cut, where its particles' stencils, its strays' and the stray zones reach (its
   // particles put no mass on other nodes).
@@ -63,11 +64,21 @@ struct StripBins {
   // cut across the strips (x runs fastest in node order).
   template <class T, class Body>
   T fold(const T& zero, Body&& body) const {
-    std::vector<T> part(static_cast<std::size_t>(strips), zero);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (long s = visit_lo; s < visit_hi; ++s) body(s, part[static_cast<std::size_t>(s)]);
-    std::vector<T> own(part.begin() + own_lo, part.begin() + own_hi);
+    std::vector<T> own = own_parts(zero, body);
     return sum_parts(own, zero, gather);
+  }
+  // The same sum for the run's books (nothing in the step reads it), handed to book(sum): at once,
+  // or where the strips defer their sums (`deferred`, a decomposed run), at its next settle, in the
+  // order the sums were made (core/parallel.hpp, DeferredSums).
+  template <class T, class Body, class Book>
+  void fold_then(const T& zero, Body&& body, Book&& book) const {
+    std::vector<T> own = own_parts(zero, body);
+    if (!deferred || !deferred->defers()) {
+      book(sum_parts(own, zero, gather));
+      return;
+    }
+    deferred->add(flatten_parts(own),
+                  [zero, book](const std::vector<double>& all) { book(sum_flat_parts(all, zero)); });
   }
   // Strip s's nodes in node order, as runs f(begin, end) of consecutive node indices: its node
   // columns (the outer strips to the grid's edges) on every row (every node along the other axes).
@@ -159,6 +170,14 @@ struct StripBins {
   }
 
  private:
+  // every strip's part of a sum, made over the visited strips; this process's own parts
+  template <class T, class Body>
+  std::vector<T> own_parts(const T& zero, Body& body) const {
+    std::vector<T> part(static_cast<std::size_t>(strips), zero);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long s = visit_lo; s < visit_hi; ++s) body(s, part[static_cast<std::size_t>(s)]);
+    return std::vector<T>(part.begin() + own_lo, part.begin() + own_hi);
+  }
   std::vector<long> order_[4];  // visit_order
 };
 

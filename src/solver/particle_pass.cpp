@@ -139,13 +139,22 @@ void Solver<D>::particle_pass_impl() {
   const auto wall1 = Clock::now();
   clock_.split_pass(seconds(wall0, wall1), t_g2p, t_stress, t_p2g);
   bins_.collect_strays(strays);
+  double cmax = 0;
+  for (const auto& r : results) cmax = std::max(cmax, r.max_wave_speed);
+  vmax_ = std::sqrt(vmax2);
+  bool strays_anywhere = !bins_.strays.empty();
   if (exchange_) {
-    // every rank decides as one: a full P2G again (a collective pass), or a stop
-    moved = exchange_->max(moved);
+    // One collective for what every rank must decide as one: a full P2G again (a collective
+    // pass), a stop, the strays' pass, and the next step's size (the largest of each over the
+    // ranks; sqrt is monotonic, so the largest speed is the one of the largest square).
+    const bool bad = bad_v != kNone || bad_s != kNone || left != kNone;
+    std::array<double, 5> any = {moved, bad ? 1.0 : 0.0, strays_anywhere ? 1.0 : 0.0, vmax_, cmax};
+    exchange_->max_each(any);
+    moved = any[0];
+    strays_anywhere = any[2] > 0.0;
     // Every rank stops here, before any other collective step: the rank of the culprit with its
     // message (a particle leaving the grid too, which one process reports at the end of the step).
-    const bool bad = bad_v != kNone || bad_s != kNone || left != kNone;
-    if (exchange_->max(bad ? 1.0 : 0.0) > 0.0) {
+    if (any[1] > 0.0) {
       if (bad_v != kNone)
         throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity", steps_,
                                            bad_v, sc_.material_names[P.material[bad_v]]));
@@ -153,8 +162,11 @@ void Solver<D>::particle_pass_impl() {
       if (left != kNone) stop_on_left_grid(left);
       throw InstabilityError(fmt::format("step {}: another rank of the run stopped (its message says why)", steps_));
     }
+    vmax_ = any[3];
+    cmax = any[4];
   }
-  scatter_strays([&](std::uint32_t p) { scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped)); });
+  scatter_strays([&](std::uint32_t p) { scatter_one(p, make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped)); },
+                 strays_anywhere);
   clock_.add(Stage::p2g, seconds(wall1, Clock::now()));
   left_grid_ = left;
   // A particle that moved a cell or more may have met a field the contact mask did not foresee:
@@ -165,18 +177,15 @@ void Solver<D>::particle_pass_impl() {
     reset_grid();
     p2g(true);
   }
-  vmax_ = std::sqrt(vmax2);
 
   if (bad_v != kNone)
     throw InstabilityError(fmt::format("step {}: particle {} (material '{}') has a non-finite velocity", steps_, bad_v,
                                        sc_.material_names[P.material[bad_v]]));
   if (bad_s != kNone) stop_on_bad_stress(bad_s);
-  if (exchange_) vmax_ = exchange_->max(vmax_);  // after the stops: a stopping rank takes no collective
-  double cmax = 0;
-  for (const auto& r : results) cmax = std::max(cmax, r.max_wave_speed);
-  cmax_ = exchange_ ? exchange_->max(cmax) : cmax;
-  // The chunks' energies in chunk order. A decomposed run's ranks hold contiguous ranges of the
-  // chunks (chunks never straddle strips), so every rank's, in rank order, are the run's in order.
+  cmax_ = cmax;
+  // The chunks' energies in chunk order, for the books. A decomposed run's ranks hold contiguous
+  // ranges of the chunks (chunks never straddle strips), so every rank's, in rank order, are the
+  // run's in order.
   std::vector<double> sums;
   sums.reserve(results.size() * (2 + nm));
   for (std::size_t c = 0; c < results.size(); ++c) {
@@ -185,12 +194,13 @@ void Solver<D>::particle_pass_impl() {
     sums.insert(sums.end(), chunk_dissipated.begin() + static_cast<long>(c * nm),
                 chunk_dissipated.begin() + static_cast<long>((c + 1) * nm));
   }
-  if (exchange_) sums = exchange_->in_rank_order(sums);
-  for (std::size_t k = 0; k < sums.size(); k += 2 + nm) {
-    internal_ += sums[k];
-    dissipated_ += sums[k + 1];
-    for (std::size_t m = 0; m < nm; ++m) dissipated_material_[m] += sums[k + 2 + m];
-  }
+  books_.add(std::move(sums), [this, nm](const std::vector<double>& all) {
+    for (std::size_t k = 0; k < all.size(); k += 2 + nm) {
+      internal_ += all[k];
+      dissipated_ += all[k + 1];
+      for (std::size_t m = 0; m < nm; ++m) dissipated_material_[m] += all[k + 2 + m];
+    }
+  });
 }
 
 template void Solver<2>::g2p_update_p2g();

@@ -10,6 +10,7 @@
 // no MPI: the implementation lives in src/distributed/. It is also the reductions' gather of every
 // rank's parts of a sum (core/parallel.hpp): a rank's strips are a contiguous range of them.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/parallel.hpp"
@@ -35,6 +36,8 @@ class ScatterExchange : public PartGather {
   // the largest of every rank's `local` (exact in any order): the time step's speeds, whether a
   // particle jumped a cell, whether any rank must stop
   virtual double max(double local) = 0;
+  // each entry of `local` made the largest of every rank's: several decisions in one collective
+  virtual void max_each(std::span<double> local) = 0;
   // the node lines (x index, inclusive) whose sums this rank completes: its particles reach no other
   virtual long first_line() const = 0;
   virtual long last_line() const = 0;

@@ -31,6 +31,7 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   for (auto& v : P.v) vmax_ = std::max(vmax_, v.norm());
   track_gradients_ = sc_.deformable_fields > 1;
   contact_tally_ = ContactTally<D>(sc_.deformable_fields);
+  bins_.deferred = &books_;
   dissipated_material_.assign(sc_.materials.size(), 0.0);
 }
 
@@ -134,6 +135,8 @@ void Solver<D>::set_scatter_exchange(ScatterExchange* exchange, double mass_thre
   bins_.visit_lo = std::max(0L, bins_.own_lo - 2);
   bins_.visit_hi = std::min(bins_.strips, bins_.own_hi + 2);
   bins_.gather = exchange_;
+  // the books' sums wait for one gather at the next history row (core/parallel.hpp, DeferredSums)
+  books_.gather_through(exchange_);
   // the strips at the rank's cuts lead their phases (their lines go to the neighbours)
   std::vector<long> lead;
   if (exchange_ && bins_.own_lo > 0) lead.push_back(bins_.own_lo);
@@ -407,15 +410,15 @@ void Solver<D>::contact(bool record, bool after_update) {
     weld_fields<D>(sc_.grid, sc_.deformable_fields, mass_eps_);
   } else {
     if (after_update && sc_.contact.has_layers()) sc_.contact.layers_at(t_ + dt_);
-    double energy = 0;
     const bool smooth = sc_.contact.springs_through_particles && after_update && sc_.contact.has_layers();
     if (smooth) springs_.size_for(static_cast<long>(sc_.deformable_fields) * sc_.grid.nodes(), sc_.grid.nodes());
-    const double friction = field_contact<D>(
-        sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_, record ? &contact_tally_ : nullptr, after_update,
-        &energy, sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &springs_ : nullptr, &bins_);
+    std::function<void(double)> book_friction;
+    if (record) book_friction = [this](double w) { dissipated_ += w, friction_ += w; };
+    field_contact<D>(sc_.grid, sc_.contact, sc_.deformable_fields, dt_, mass_eps_, record ? &contact_tally_ : nullptr,
+                     after_update, after_update ? &layer_energy_ : nullptr,
+                     sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &springs_ : nullptr, &bins_,
+                     book_friction);
     if (smooth) spring_impulses_through_particles();
-    if (record) dissipated_ += friction, friction_ += friction;
-    if (after_update) layer_energy_ = energy;
   }
   if (walls_last) rigid_stage(record);
 }
@@ -514,18 +517,19 @@ void Solver<D>::spring_impulses_impl() {
 template <int D>
 void Solver<D>::rigid_stage(bool record) {
   if (!sc_.bodies.empty()) {
-    RigidContactResult<D> r;
+    std::function<void(const RigidContactResult<D>&)> book;
+    if (record)
+      book = [this](const RigidContactResult<D>& r) {
+        for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
+          sc_.bodies[b].impulse += r.impulse[b];
+          sc_.bodies[b].work += r.work[b];
+          dissipated_ += r.friction_work[b];
+          friction_ += r.friction_work[b];
+        }
+      };
     // The bodies' velocity over the step (t_n+1): also in MUSL's unrecorded remap pass, whose
     // momenta carry the end-of-step velocities (it used t_n: a punch lag of up to 1e-4 m/s in the ramp).
-    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, presence_.nodes(), r, &bins_);
-    if (record) {
-      for (std::size_t b = 0; b < sc_.bodies.size(); ++b) {
-        sc_.bodies[b].impulse += r.impulse[b];
-        sc_.bodies[b].work += r.work[b];
-        dissipated_ += r.friction_work[b];
-        friction_ += r.friction_work[b];
-      }
-    }
+    rigid_contact<D>(sc_.grid, sc_.bodies, sc_.deformable_fields, t_ + dt_, mass_eps_, presence_.nodes(), book, &bins_);
   }
 }
 

@@ -7,6 +7,7 @@
 // solver/particle_pass.cpp), which calls the same per-particle kernels as the separate stages.
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -37,21 +38,28 @@ class Solver {
   Scene<D>& scene() { return sc_; }
   const Scene<D>& scene() const { return sc_; }
 
+  // The run's books (the energies below, the bodies' impulses and work, the contact tally) are
+  // complete only after settle_books(): a decomposed run's ranks gather the step's sums for them
+  // once per history row (core/parallel.hpp, DeferredSums). Collective there: every rank calls
+  // it at the same step. One process books every sum at once. The getters of the books refuse to
+  // read them while sums wait (a std::logic_error).
+  void settle_books() { books_.settle(); }
+
   // Energies of the deformable particles, J (per metre of depth in 2D).
   double kinetic_energy() const;  // with the scaled (inertial) masses
   // integrated stress work, plus the energy held by binder-layer springs (field contact)
-  double internal_energy() const { return internal_ + layer_energy_; }
+  double internal_energy() const { return settled(internal_ + layer_energy_); }
   // the part of it the binder-layer springs hold at the end of the last step
-  double layer_energy() const { return layer_energy_; }
-  double dissipated_energy() const { return dissipated_; }  // plastic/viscous + friction
+  double layer_energy() const { return settled(layer_energy_); }
+  double dissipated_energy() const { return settled(dissipated_); }  // plastic/viscous + friction
   // its parts: each material's plastic and viscous work (sc.materials order), and the friction work
   // of the field contact and the rigid bodies, J (per metre of depth in 2D)
-  const std::vector<double>& dissipated_by_material() const { return dissipated_material_; }
-  double friction_work() const { return friction_; }
+  const std::vector<double>& dissipated_by_material() const { return settled(dissipated_material_); }
+  double friction_work() const { return settled(friction_); }
   long stray_count() const { return static_cast<long>(bins_.strays.size()); }  // particles outside their home strip
   double max_wave_speed() const { return cmax_; }                              // unscaled, m/s
   // Impulses exchanged between deformable fields since the last clear (history bookkeeping).
-  ContactTally<D>& contact_tally() { return contact_tally_; }
+  ContactTally<D>& contact_tally() { return settled(contact_tally_); }
   // Wall seconds per stage since construction or the last clear (solver/stage_clock.hpp).
   StageClock& stage_clock() { return clock_; }
   const StageClock& stage_clock() const { return clock_; }
@@ -64,7 +72,7 @@ class Solver {
     double friction = 0;
   };
   State state() const {
-    return {t_, dt_, cmax_, vmax_, internal_, dissipated_, steps_, dissipated_material_, friction_};
+    return {t_, dt_, cmax_, vmax_, settled(internal_), dissipated_, steps_, dissipated_material_, friction_};
   }
   void restore(const State& s);  // also moves the rigid bodies and re-locates the particles
   // USF: the node-fields the last step's final contact pass acted on (grid.at(field, node)) and
@@ -152,10 +160,12 @@ class Solver {
   void for_each_visited_run(F&& f);
   // The strays' serial scatter, hand(p) per stray in index order; in a decomposed run every rank
   // takes it with the stray zones' exchange when any rank has a stray.
+  // anywhere: whether any rank has a stray, when the caller has asked the ranks already (-1: ask)
   template <class F>
-  void scatter_strays(F&& hand) {
+  void scatter_strays(F&& hand, int anywhere = -1) {
     if (exchange_) {
-      if (!(exchange_->max(bins_.strays.empty() ? 0.0 : 1.0) > 0.0)) return;
+      if (anywhere < 0) anywhere = exchange_->max(bins_.strays.empty() ? 0.0 : 1.0) > 0.0;
+      if (!anywhere) return;
       const auto [lo, hi] = refuse_far_strays();
       exchange_->before_strays(lo, hi);
       for (const std::uint32_t p : bins_.strays) hand(p);
@@ -167,6 +177,18 @@ class Solver {
   // stops every rank if a stray is further than one strip from home; the node lines the strays reach
   std::pair<long, long> refuse_far_strays();
   void locate_particles();
+  // x, after checking that no sum of the books waits for a settle
+  template <class T>
+  const T& settled(const T& x) const {
+    if (books_.pending())
+      throw std::logic_error("Solver: the run's books were read before settle_books() (a decomposed run's sums wait)");
+    return x;
+  }
+  template <class T>
+  T& settled(T& x) {
+    std::as_const(*this).settled(std::as_const(x));
+    return x;
+  }
 
   Scene<D>& sc_;
   StripBins bins_;
@@ -196,6 +218,7 @@ class Solver {
   ContactVelocities contact_vel_;
   SpringImpulses<D> springs_;            // the springs' impulses of the pass after the update, and their nodes
   ScatterExchange* exchange_ = nullptr;  // a decomposed run's halo exchange (null: one process)
+  DeferredSums books_;                   // where the books' sums wait in a decomposed run (bins_.deferred)
 };
 
 }  // namespace pbx
