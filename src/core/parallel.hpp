@@ -72,8 +72,9 @@ T sum_parts(std::vector<T>& parts, const T& zero, PartGather* gather) {
 // process books each at once. A decomposed run's ranks keep their doubles of each and gather them
 // all in one all-gather at settle(), then book every sum in the order it was made: the same
 // additions in the same order as one process, so the same bits, for one collective per history row
-// (or per `batch` sums) instead of two per sum and step. The ranks used to wait at each of these
-// gathers in turn (docs/performance/engine.md, "Weak scaling of one run over ranks").
+// (or per `batch` sums) instead of two per sum and step, where the ranks waited for each other in
+// turn (its effect on the time was below what a noisy 2-vCPU VM resolves: docs/performance/engine.md,
+// "Weak scaling, second pass").
 class DeferredSums {
  public:
   // batch: a settle is taken when this many sums wait, a bound on the memory they hold; the same
