@@ -58,6 +58,9 @@ void run_pack(const PackOptions& o) {
               p.grains.size(), s.grains_coarse, s.grains_fine, s.porosity, s.density / 1000, s.tmd / 1000);
   std::printf("pack: TATB:binder mass %.4f:%.4f, area fractions TATB %.4f binder %.4f\n", 100 * s.tatb_mass_fraction,
               100 * (1 - s.tatb_mass_fraction), s.tatb_area_fraction, s.binder_area_fraction);
+  if (p.tiles[0] * p.tiles[1] > 1)
+    std::printf("pack: %d x %d copies of the packed %.4g x %.4g m cell (packing.tiles)\n", p.tiles[0], p.tiles[1],
+                p.box.x() / p.tiles[0], p.box.y() / p.tiles[1]);
   std::printf("pack: coat %.3f-%.3f um, %d contact colours, %.2f s -> %s/packing.{csv,json,png}\n", s.coat_min * 1e6,
               s.coat_max * 1e6, s.colours, secs, o.out.c_str());
 }

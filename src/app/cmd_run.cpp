@@ -116,7 +116,10 @@ template <int D>
 void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& deck_name, const CheckpointData& ck) {
   int init = 0;
   MPI_Initialized(&init);
-  if (!init) MPI_Init(nullptr, nullptr);
+  // Funneled: with --threads N the exchange is called by the master thread only, between and
+  // inside OpenMP regions (ScatterExchange::progress).
+  int provided = 0;
+  if (!init) MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);

@@ -110,6 +110,17 @@ PackingSpec read_packing_spec(const DeckTable& t) {
   const long attempts = t.integer("attempts", 8);
   if (attempts < 1 || attempts > 1000) t.fail("attempts", "must lie in [1, 1000]");
   s.attempts = static_cast<int>(attempts);
+  if (t.has("tiles")) {
+    const auto n = t.quantities("tiles", dim::none);
+    if (n.size() != 2) t.fail("tiles", "expected [copies along x, copies along y], e.g. [2, 1]");
+    for (int k = 0; k < 2; ++k)
+      if (!(n[k] >= 1 && n[k] <= 64 && n[k] == std::floor(n[k])))
+        t.fail("tiles", fmt::format("entry {} must be a whole number in [1, 64] (got {})", k, n[k]));
+    if (!s.periodic && (n[0] > 1 || n[1] > 1))
+      t.fail("tiles",
+             "needs boundary = \"periodic\": copies of a packing with walls would meet along flat, grain-free seams");
+    s.tiles = {static_cast<int>(n[0]), static_cast<int>(n[1])};
+  }
   return s;
 }
 
@@ -306,6 +317,27 @@ Packing generate_packing(const PackingSpec& spec) {
   if (std::abs(p.stats.porosity - spec.porosity) > spec.tolerance)
     throw InputError(fmt::format("packing.porosity: reached {:.5f} instead of {:.5f} (tolerance {})", p.stats.porosity,
                                  spec.porosity, spec.tolerance));
+  return spec.tiles == std::array<int, 2>{1, 1} ? p : tile_packing(p, spec.tiles);
+}
+
+Packing tile_packing(const Packing& cell, std::array<int, 2> tiles) {
+  if (!(tiles[0] >= 1 && tiles[1] >= 1)) throw InputError("packing.tiles: entries must be >= 1");
+  if (!cell.periodic)
+    throw InputError("packing.tiles: needs a periodic packing (boundary = \"periodic\"); this one has walls");
+  if (cell.image.nx > 0) throw InputError("packing.tiles: an imported image is not a periodic cell and is not tiled");
+  Packing p = cell;
+  p.box = {cell.box.x() * tiles[0], cell.box.y() * tiles[1]};
+  p.tiles = {cell.tiles[0] * tiles[0], cell.tiles[1] * tiles[1]};
+  p.grains_shrunk = cell.grains_shrunk * tiles[0] * tiles[1];
+  p.grains.clear();
+  p.grains.reserve(cell.grains.size() * static_cast<std::size_t>(tiles[0] * tiles[1]));
+  for (int j = 0; j < tiles[1]; ++j)
+    for (int i = 0; i < tiles[0]; ++i)
+      for (Grain g : cell.grains) {
+        g.centre += Eigen::Vector2d(i * cell.box.x(), j * cell.box.y());
+        p.grains.push_back(g);
+      }
+  measure(p);
   return p;
 }
 

@@ -3,6 +3,7 @@
 // table (bimodal sizes, exact TATB:binder mass ratio, target porosity) or imported from a
 // segmented image; written as packing.csv + packing.json + packing.png. See
 // docs/theory/microstructure.md for the algorithm and docs/deck/microstructure.md for the keys.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -54,6 +55,7 @@ struct Packing {
   int grains_shrunk = 0;                        // grains reduced to remove the last overlaps
   double max_shrink = 0;                        // largest relative diameter reduction (<= 1 %)
   int attempt = 0;                              // placement that succeeded (1-based; 0 imported)
+  std::array<int, 2> tiles{1, 1};               // copies of the packed cell along x and y (see tile_packing)
   PackingStats stats;                           // measured on the geometry, see measure()
 };
 
@@ -69,6 +71,9 @@ struct PackingSpec {
   double contact_gap = 2e-6;  // m
   bool periodic = true;
   int attempts = 8;  // packings tried (different placements) before failing
+  // Copies of the packed box along x and y: the specimen is `tiles` periods of one periodic
+  // packing (box × tiles), e.g. the same work per rank in a weak-scaling run.
+  std::array<int, 2> tiles{1, 1};
 
   // Theoretical maximum density from the phase densities and the mass ratio.
   double tmd() const;
@@ -81,6 +86,12 @@ PackingSpec read_packing_spec(const DeckTable& t);
 
 // Throws InputError when the target porosity cannot be reached, stating the best reached.
 Packing generate_packing(const PackingSpec& spec);
+
+// `tiles` periods of a periodic packing side by side: every grain repeated at each offset
+// (i box_x, j box_y), colours kept (they separate the periodic images' contacts already, so they
+// separate the copies'), the box tiles × box. Throws InputError for a packing with walls or one
+// imported from an image.
+Packing tile_packing(const Packing& cell, std::array<int, 2> tiles);
 
 // Recomputes p.stats from the geometry (exact circle-union areas, or pixel counts for images).
 void measure(Packing& p);

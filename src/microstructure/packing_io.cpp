@@ -170,6 +170,7 @@ void write_packing(const Packing& p, const std::string& dir) {
     js["grains_shrunk"] = p.grains_shrunk;
     js["max_relative_shrink"] = p.max_shrink;
     js["attempt"] = p.attempt;
+    js["tiles"] = json_numbers({static_cast<double>(p.tiles[0]), static_cast<double>(p.tiles[1])});
     js["colours"] = s.colours;
     js["contact_gap_m"] = p.contact_gap;
     js["diameter_histogram"] = h;

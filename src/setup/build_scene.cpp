@@ -330,8 +330,13 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
       for (int d = 0; d < 2; ++d) {
         const double want = d == 0 ? sc.die->width : sc.die->height;
         if (std::abs(packing.box[d] - want) > 1e-9 * want)
-          spec_t->fail("grain_material", fmt::format("the packing box ({} x {} m) differs from the die ({} x {} m)",
-                                                     packing.box[0], packing.box[1], sc.die->width, sc.die->height));
+          spec_t->fail("grain_material", fmt::format("the packing box ({} x {} m{}) differs from the die ({} x {} m)",
+                                                     packing.box[0], packing.box[1],
+                                                     packing.tiles[0] * packing.tiles[1] > 1
+                                                         ? fmt::format(", packing.box times packing.tiles [{}, {}]",
+                                                                       packing.tiles[0], packing.tiles[1])
+                                                         : std::string(),
+                                                     sc.die->width, sc.die->height));
       }
       // Grains whose TATB cores come within two cells of each other share grid nodes (two uGIMP
       // supports reach 2.5 cells, less the quarter cell each body's outer particles sit inside its

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -31,16 +32,21 @@ namespace {
 // The quick study's paper specimen (20 um cells, 293 K, porosity 0.08, seed 1): its grains on the
 // fields of their contact colours and the binder field, binder-layer sums on; `kernel` as the deck
 // spells it.
-Scene<2> paper_specimen(const std::string& kernel) {
+// `tiles` copies of the packed cell along x in a die as many times wider (packing.tiles).
+Scene<2> paper_specimen(const std::string& kernel, int tiles = 1) {
   const std::string dir = std::string(PBXMPM_EXAMPLES_DIR) + "/paper", file = dir + "/base.toml";
   std::ifstream in(file);
   std::stringstream ss;
   ss << in.rdbuf();
-  const std::vector<DeckOverride> set = {{"grid.cell_size", "\"20 um\""},
-                                         {"grid.shape_function", "\"" + kernel + "\""},
-                                         {"packing.porosity", "0.08"},
-                                         {"run.temperature", "\"293 K\""},
-                                         {"specimen.seed", "1"}};
+  std::vector<DeckOverride> set = {{"grid.cell_size", "\"20 um\""},
+                                   {"grid.shape_function", "\"" + kernel + "\""},
+                                   {"packing.porosity", "0.08"},
+                                   {"run.temperature", "\"293 K\""},
+                                   {"specimen.seed", "1"}};
+  if (tiles > 1) {
+    set.emplace_back("packing.tiles", fmt::format("[{}, 1]", tiles));
+    set.emplace_back("die.width", fmt::format("\"{} mm\"", tiles));
+  }
   Deck deck = Deck::from_string(deck_with_overrides(ss.str(), file, set), file, dir);
   return build_scene<2>(deck, SceneNotes::quiet);
 }
@@ -130,6 +136,45 @@ TEST(StripPartition, SharesWholeStripsBalancedByParticles) {
   EXPECT_EQ(four.first.back(), 11);
   EXPECT_THROW(partition_strips(begin, 4, 3), std::invalid_argument);  // 11 strips cannot give 12
   EXPECT_THROW(partition_strips(begin, 0), std::invalid_argument);
+}
+
+// The weak-scaling specimen (docs/performance/engine.md): the paper specimen's packed cell twice
+// side by side is the cell's particles twice, the second copy shifted by the cell's width, with the
+// same fields, and two ranks' halves of it each hold exactly the cell's particles: the same work per
+// rank as the one-process run of the cell.
+TEST(StripPartition, TiledPaperSpecimenGivesEachOfTwoRanksTheCellsParticles) {
+  const Scene<2> cell = paper_specimen("ugimp"), two = paper_specimen("ugimp", 2);
+  const auto& C = cell.particles;
+  const auto& T = two.particles;
+  ASSERT_EQ(T.size(), 2 * C.size());
+  EXPECT_EQ(two.deformable_fields, cell.deformable_fields);
+  using Key = std::tuple<int, double, double, double, double>;  // material, x, y, volume, mass
+  auto keys = [](const Particles<2>& P, double x_lo, double x_hi, double shift) {
+    std::vector<Key> k;
+    for (std::size_t p = 0; p < P.size(); ++p)
+      if (P.x[p][0] >= x_lo && P.x[p][0] < x_hi)
+        k.emplace_back(P.material[p], P.x[p][0] - shift, P.x[p][1], P.volume0[p], P.mass[p]);
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  const auto c = keys(C, 0, 1e-3, 0);
+  ASSERT_EQ(c.size(), C.size());
+  for (int copy = 0; copy < 2; ++copy) {
+    const auto t = keys(T, copy * 1e-3, (copy + 1) * 1e-3, copy * 1e-3);
+    ASSERT_EQ(t.size(), c.size()) << copy;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      EXPECT_EQ(std::get<0>(t[i]), std::get<0>(c[i]));
+      EXPECT_NEAR(std::get<1>(t[i]), std::get<1>(c[i]), 1e-15) << copy << " " << i;
+      EXPECT_EQ(std::get<2>(t[i]), std::get<2>(c[i]));
+      EXPECT_DOUBLE_EQ(std::get<3>(t[i]), std::get<3>(c[i]));
+      EXPECT_DOUBLE_EQ(std::get<4>(t[i]), std::get<4>(c[i]));
+    }
+  }
+  Scene<2> copy = paper_specimen("ugimp", 2);
+  const Solver<2> solver(copy);
+  const auto& sb = solver.strips().begin;
+  const StripPartition part = partition_strips(sb, 2);
+  EXPECT_EQ(sb[static_cast<std::size_t>(part.first[1])], static_cast<long>(C.size()));
 }
 
 // Each rank's part of the scene, taken after the whole scene was set up, holds the whole scene's

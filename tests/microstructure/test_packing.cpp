@@ -446,3 +446,64 @@ TEST(Packing, DensestPaperSpecimenWithThePapersGrainSizes) {
   }
   EXPECT_LT(D, 1.628 / std::sqrt(n));
 }
+
+// packing.tiles: copies of the periodic cell side by side (a weak-scaling specimen: the same work
+// per rank). Each copy is the cell shifted by whole periods, the porosity and mass balance are the
+// cell's, and every contact of the cell, across its periodic edges included, appears once per
+// copy with its two colours different: the copies meet along the seams as the cell meets its
+// periodic images.
+TEST(Packing, TilesRepeatThePeriodicCellAcrossItsEdges) {
+  const Packing& cell = paper_packing();
+  const Packing p = generate_packing(spec_from(replace(kDeck, "seed = 3", "seed = 3\ntiles = [2, 3]")));
+  const std::size_t n = cell.grains.size();
+  ASSERT_EQ(p.grains.size(), 6 * n);
+  EXPECT_EQ(p.box.x(), 2 * cell.box.x());
+  EXPECT_EQ(p.box.y(), 3 * cell.box.y());
+  EXPECT_EQ(p.tiles[0], 2);
+  EXPECT_EQ(p.tiles[1], 3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 2; ++i)
+      for (std::size_t g = 0; g < n; ++g) {
+        const Grain& a = p.grains[static_cast<std::size_t>(j * 2 + i) * n + g];
+        const Grain& b = cell.grains[g];
+        EXPECT_EQ(a.centre.x(), b.centre.x() + i * cell.box.x());
+        EXPECT_EQ(a.centre.y(), b.centre.y() + j * cell.box.y());
+        EXPECT_EQ(a.diameter, b.diameter);
+        EXPECT_EQ(a.coat, b.coat);
+        EXPECT_EQ(a.colour, b.colour);
+      }
+  EXPECT_NEAR(p.stats.porosity, cell.stats.porosity, 1e-9);
+  EXPECT_NEAR(p.stats.tatb_mass_fraction, 0.95, 1e-9);
+  const auto pairs = contact_pairs(p);
+  EXPECT_EQ(pairs.size(), 6 * contact_pairs(cell).size());
+  for (auto [i, j] : pairs) EXPECT_NE(p.grains[i].colour, p.grains[j].colour) << i << " " << j;
+  EXPECT_EQ(p.stats.colours, cell.stats.colours);
+}
+
+TEST(Packing, TilesNeedAPeriodicCellAndWholeCounts) {
+  auto msg = [](const std::string& text) {
+    try {
+      generate_packing(spec_from(text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const auto with = [](const std::string& extra) { return replace(kDeck, "seed = 3", "seed = 3\n" + extra); };
+  EXPECT_NE(msg(with("tiles = [0, 1]")).find("packing.tiles: entry 0 must be a whole number in [1, 64] (got 0)"),
+            std::string::npos)
+      << msg(with("tiles = [0, 1]"));
+  EXPECT_NE(msg(with("tiles = [2, 1.5]")).find("packing.tiles: entry 1 must be a whole number"), std::string::npos);
+  EXPECT_NE(msg(with("tiles = [2]")).find("packing.tiles: expected [copies along x, copies along y]"),
+            std::string::npos);
+  EXPECT_NE(msg(replace(with("tiles = [2, 1]\nboundary = \"walls\""), "porosity = 0.0932", "porosity = 0.25"))
+                .find("packing.tiles: needs boundary = \"periodic\""),
+            std::string::npos);
+  Packing walls = paper_packing();
+  walls.periodic = false;
+  EXPECT_THROW(tile_packing(walls, {2, 1}), InputError);
+  // one copy is the cell itself
+  const Packing one = generate_packing(spec_from(with("tiles = [1, 1]")));
+  ASSERT_EQ(one.grains.size(), paper_packing().grains.size());
+  for (std::size_t g = 0; g < one.grains.size(); ++g) EXPECT_EQ(one.grains[g].centre, paper_packing().grains[g].centre);
+}
