@@ -116,8 +116,8 @@ template <int D>
 void run_deck_over_ranks(Deck& deck, const RunArgs& args, const std::string& deck_name, const CheckpointData& ck) {
   int init = 0;
   MPI_Initialized(&init);
-  // Funneled: with --threads N the exchange is called by the master thread only, between and
-  // inside OpenMP regions (ScatterExchange::progress).
+  // Funneled: with --threads N OpenMP threads live beside MPI, and only the master thread calls it
+  // (the exchange runs between the parallel regions). Open MPI gives at least this level.
   int provided = 0;
   if (!init) MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   int rank = 0, size = 1;
