@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "core/error.hpp"
 #include "distributed/strip_exchange.hpp"
 #include "distributed/strip_partition.hpp"
 #include "io/deck.hpp"
@@ -175,6 +176,24 @@ TEST(StripPartition, TiledPaperSpecimenGivesEachOfTwoRanksTheCellsParticles) {
   const auto& sb = solver.strips().begin;
   const StripPartition part = partition_strips(sb, 2);
   EXPECT_EQ(sb[static_cast<std::size_t>(part.first[1])], static_cast<long>(C.size()));
+}
+
+// A tiled packing in a die that was not widened is refused, and the message says the box was tiled.
+TEST(StripPartition, TiledPackingInANarrowDieIsRefusedNamingTheTiles) {
+  const std::string dir = std::string(PBXMPM_EXAMPLES_DIR) + "/paper", file = dir + "/base.toml";
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::vector<DeckOverride> set = {{"grid.cell_size", "\"20 um\""}, {"packing.tiles", "[2, 1]"}};
+  Deck deck = Deck::from_string(deck_with_overrides(ss.str(), file, set), file, dir);
+  try {
+    build_scene<2>(deck, SceneNotes::quiet);
+    FAIL() << "a 2 mm packing in a 1 mm die was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("packing.box times packing.tiles [2, 1]) differs from the die"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // Each rank's part of the scene, taken after the whole scene was set up, holds the whole scene's
