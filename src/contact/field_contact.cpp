@@ -157,6 +157,7 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
     };
     std::vector<int> present;
     std::vector<Vec<D>> dp(nf);
+    std::vector<Side<D>> own(nf);  // each present field's sums, read from the grid once per node
     present.reserve(nf);
     bins.for_each_node_run(grid, s, [&](long begin, long end) {
       for (long i = begin; i < end; ++i) {
@@ -196,23 +197,24 @@ double field_contact(Grid<D>& grid, const ContactMatrix& cm, int deformable, dou
           }
         } else {
           for (std::size_t ia = 0; ia < np; ++ia) {
+            own[ia] = Side<D>{};
+            own[ia].add(grid, grid.at(present[ia], i), sums_of_layers);
+          }
+          for (std::size_t ia = 0; ia < np; ++ia) {
             const int a = present[ia];
-            const long ka = grid.at(a, i);
-            Side<D> A;
-            A.add(grid, ka, sums_of_layers);
+            const Side<D>& A = own[ia];
             // The rest r: every other field at the node, summed explicitly (not P - p_a) so that a
-            // two-field node gets exactly opposite impulses.
+            // two-field node gets exactly opposite impulses. (Adding a field's sums to a zero Side
+            // reproduces them exactly, so summing the copies is summing the grid's entries.)
             Side<D> R;
             int partner = -1;
             double mpartner = -1;
             for (std::size_t ib = 0; ib < np; ++ib) {
-              const int b = present[ib];
-              if (b == a) continue;
-              const long kb = grid.at(b, i);
-              R.add(grid, kb, sums_of_layers);
-              if (grid.mass[kb] > mpartner) {
-                mpartner = grid.mass[kb];
-                partner = b;
+              if (ib == ia) continue;
+              R += own[ib];
+              if (own[ib].m > mpartner) {
+                mpartner = own[ib].m;
+                partner = present[ib];
               }
             }
             const Exchange<D> e = exchange(A, R, a, partner);

@@ -36,6 +36,19 @@ struct Side {
       N += layers->mnorm[k];
     }
   }
+  // the sums of another side, in the order add() takes a grid entry's
+  Side& operator+=(const Side& o) {
+    m += o.m;
+    p += o.p;
+    g += o.g;
+    x += o.x;
+    X += o.X;
+    F += o.F;
+    b += o.b;
+    t += o.t;
+    N += o.N;
+    return *this;
+  }
   // most of its mass is bonded particles (of a grain-grain contact)
   bool bonded() const { return b >= 0.5 * m; }
 };
