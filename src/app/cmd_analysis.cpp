@@ -1,13 +1,16 @@
 // pbxmpm analyze / fit / report: the analysis of run and study directories (src/analysis).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include "analysis/csv_table.hpp"
 #include "analysis/density_law.hpp"
@@ -21,6 +24,7 @@
 #include "core/parse_number.hpp"
 #include "core/units.hpp"
 #include "io/deck.hpp"
+#include "io/json.hpp"
 #include "study/run_phases.hpp"
 
 namespace pbx::app {
@@ -122,12 +126,14 @@ struct AnalyzeArgs {
   std::string dir, window, plateau, options_file, window_signal;
   std::string strength_strain, tolerance, ke_ie;  // "" = not given
   bool allow_unfinished = false;
+  std::string options_text, options_source;  // an [analysis] table given as text (the run's own deck's)
 };
 
 AnalysisOptions analysis_options(const AnalyzeArgs& a) {
   AnalysisOptions o;
-  if (!a.options_file.empty()) {
-    Deck deck = Deck::from_file(a.options_file);
+  if (!a.options_file.empty() || !a.options_text.empty()) {
+    Deck deck =
+        a.options_file.empty() ? Deck::from_string(a.options_text, a.options_source) : Deck::from_file(a.options_file);
     if (auto t = deck.root().optional_table("analysis")) o = AnalysisOptions::from_deck(*t);
     deck.check_unused();
   }
@@ -151,6 +157,47 @@ AnalysisOptions analysis_options(const AnalyzeArgs& a) {
   return o;
 }
 
+// run.json keeps the deck as JSON (toml++'s JSON form of it); its [analysis] table back as TOML:
+// numbers, strings, booleans and arrays of them, as the table's keys take.
+toml::array toml_array_of(const Json& j);
+toml::table analysis_table_of(const Json& j) {
+  toml::table t;
+  for (const auto& [key, v] : j.items()) {
+    if (v.is_number_integer())
+      t.insert(key, v.get<std::int64_t>());
+    else if (v.is_number())
+      t.insert(key, v.get<double>());
+    else if (v.is_string())
+      t.insert(key, v.get<std::string>());
+    else if (v.is_boolean())
+      t.insert(key, v.get<bool>());
+    else if (v.is_array())
+      t.insert(key, toml_array_of(v));
+    else
+      throw InputError(fmt::format("run.json: deck.analysis.{}: not a value an [analysis] key takes", key));
+  }
+  return t;
+}
+toml::array toml_array_of(const Json& j) {
+  toml::array a;
+  for (const auto& v : j) {
+    if (v.is_number_integer())
+      a.push_back(v.get<std::int64_t>());
+    else if (v.is_number())
+      a.push_back(v.get<double>());
+    else if (v.is_string())
+      a.push_back(v.get<std::string>());
+    else
+      throw InputError("run.json: deck.analysis: an array entry that is not a number or a string");
+  }
+  return a;
+}
+std::string analysis_table_as_toml(const Json& j) {
+  std::stringstream ss;
+  ss << toml::table{{"analysis", analysis_table_of(j)}} << "\n";
+  return ss.str();
+}
+
 // A study directory's analysis.toml (its deck's [analysis] table) is the default options file of
 // `fit study` and `report`, so they read the runs the way the study did.
 // quiet: the options are not used to analyse (report --reuse-analysis), so no line says they are.
@@ -165,6 +212,9 @@ AnalyzeArgs with_study_options(AnalyzeArgs a, bool quiet = false) {
 
 // A run of a study (STUDY/runs/<id>) is analysed by `analyze` with the study's analysis.toml too,
 // as the study and its report analysed it; the line on stderr says so (--options overrides).
+// Otherwise a run whose deck carried an [analysis] table (a study writes its own into every run
+// deck, so a deck taken out of a study keeps it) is analysed with that table, which run.json keeps
+// with the rest of the deck: run alone, the deck's run is read as its study read it.
 AnalyzeArgs with_run_study_options(AnalyzeArgs a) {
   std::filesystem::path run = std::filesystem::absolute(a.dir).lexically_normal();
   if (!run.has_filename()) run = run.parent_path();  // "runs/ID/" or "." from inside the run
@@ -174,6 +224,18 @@ AnalyzeArgs with_run_study_options(AnalyzeArgs a) {
     a.options_file = (study / "analysis.toml").string();
     fmt::print(stderr, "pbxmpm: analysis options from {} (the study's [analysis] table; --options to use others)\n",
                a.options_file);
+  } else if (a.options_file.empty() && std::filesystem::exists(run / "run.json")) {
+    const Json record = json_read_file((run / "run.json").string());
+    const Json* deck = json_find(record, "deck");
+    const Json* table = deck ? json_find(*deck, "analysis") : nullptr;
+    if (table && table->is_object()) {
+      a.options_text = analysis_table_as_toml(*table);
+      a.options_source = (run / "run.json").string() + " (the run deck's [analysis] table)";
+      fmt::print(stderr,
+                 "pbxmpm: analysis options from the run deck's [analysis] table (in {}; --options to use "
+                 "others)\n",
+                 (run / "run.json").string());
+    }
   }
   return a;
 }

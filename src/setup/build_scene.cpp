@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "analysis/run_analysis.hpp"
 #include "core/error.hpp"
 #include "io/deck.hpp"
 #include "microstructure/colouring.hpp"
@@ -152,6 +153,12 @@ template <int D>
 Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
   Scene<D> sc;
   const DeckTable root = deck.root();
+
+  // How the run is to be analysed (a study writes its [analysis] table into each run deck, so that
+  // a deck taken out of the study and run alone is analysed as the study analysed it: run.json keeps
+  // the deck, and `pbxmpm analyze` reads the table from there). Not part of the simulation; checked
+  // here so that a misspelt key fails before the run, not after it.
+  if (auto a = root.optional_table("analysis")) (void)AnalysisOptions::from_deck(*a);
 
   // ---- run control
   const DeckTable run = root.table("run");

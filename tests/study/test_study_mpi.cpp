@@ -289,6 +289,56 @@ TEST(Study, AnalysisTableAppliesToEveryRunAndOnResume) {
   fs::remove_all(dir);
 }
 
+// A study writes its [analysis] table into every run deck (after a marker line that the deck
+// comparison leaves out, so runs made before keep being reused: the test above). A deck taken out
+// of the study and run alone is then analysed by `pbxmpm analyze` as the study analysed it, from the
+// copy of the deck in run.json; without the table the automatic window's defaults applied silently
+// (a 5 um run of the quick deck read E 6.3 GPa at a knee in the start's ringing instead of 1.6). A
+// misspelt key of the table stops the run before it starts.
+TEST(Study, RunDeckTakenOutOfTheStudyIsAnalysedByItsTable) {
+  const fs::path dir = make_study("", "[10]");
+  std::ofstream(dir / "study.toml", std::ios::app) << "\n[analysis]\nlinear_window = [0.002, 0.005]\n";
+  const StudySpec s = read_study((dir / "study.toml").string());
+  const std::string text = run_deck_text(s, s.runs[0]);
+  const toml::table deck = toml::parse(text);
+  ASSERT_TRUE(deck["analysis"]["linear_window"].is_array()) << text;
+  EXPECT_DOUBLE_EQ(deck["analysis"]["linear_window"][0].value_or(0.0), 0.002);
+  std::ofstream(dir / "alone.toml") << text;
+  const std::string bin = PBXMPM_BINARY;
+  const std::string run = bin + " run " + (dir / "alone.toml").string() + " --out " + (dir / "alone").string() +
+                          " -q --threads 1 > " + (dir / "run.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(run.c_str()), 0) << slurp(dir / "run.log");
+  const std::string analyze =
+      bin + " analyze " + (dir / "alone").string() + " > " + (dir / "an.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(analyze.c_str()), 0) << slurp(dir / "an.log");
+  EXPECT_NE(slurp(dir / "an.log").find("the run deck's [analysis] table"), std::string::npos) << slurp(dir / "an.log");
+  const std::string a = slurp(dir / "alone" / "analysis.json");
+  EXPECT_NE(a.find("\"automatic\": false"), std::string::npos) << a;
+  EXPECT_NE(a.find("\"lo\": 0.002"), std::string::npos) << a;
+  // --options still wins over the deck's table
+  std::ofstream(dir / "opts.toml") << "[analysis]\nlinear_window = [0.001, 0.004]\n";
+  const std::string again = bin + " analyze " + (dir / "alone").string() + " --options " +
+                            (dir / "opts.toml").string() + " > " + (dir / "an2.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(again.c_str()), 0) << slurp(dir / "an2.log");
+  EXPECT_NE(slurp(dir / "alone" / "analysis.json").find("\"lo\": 0.001"), std::string::npos);
+  // a misspelt key in a run deck's table is an error naming it, before any step
+  std::string bad = text;
+  bad += "window_min_pointz = 20\n";
+  const Deck d = Deck::from_string(bad, "bad.toml");
+  try {
+    build_scene<2>(d);
+    d.check_unused();  // as every command does before the first step
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("analysis.window_min_pointz"), std::string::npos) << e.what();
+  }
+  // and a value out of range is refused by the scene's reader itself
+  std::string out_of_range = text;
+  out_of_range += "window_min_points = 2\n";
+  EXPECT_THROW(build_scene<2>(Deck::from_string(out_of_range, "range.toml")), InputError);
+  fs::remove_all(dir);
+}
+
 // A finished run whose analysis.json is missing (the analysis failed, or was deleted) is
 // re-analysed when the study is started again, not simulated again: its history.csv stays the
 // same file (it used to be rewritten by a whole new run). Names with quotes and a tab give valid
