@@ -53,16 +53,17 @@ LayerLaw read_layer_law(const ParamTable& t) {
   if (t.has("bond_depth")) law.bond_depth = t.positive("bond_depth", dim::length);
   if (t.has("film")) {
     const std::string film = t.string("film");
-    if (film != "uniform" && film != "integrated")
-      t.fail("film", fmt::format("must be 'uniform' or 'integrated', got '{}'", film));
-    law.integrated = film == "integrated";
+    if (film != "uniform" && film != "integrated" && film != "bonds")
+      t.fail("film", fmt::format("must be 'uniform', 'integrated' or 'bonds', got '{}'", film));
+    law.integrated = film == "integrated" || film == "bonds";
+    law.bonds = film == "bonds";
   }
   if (law.integrated && t.has("bond_gap"))
     t.fail("bond_gap",
            "does not apply with film = \"integrated\": its springs act on the band of one cell that the grid lets "
            "two bodies share, and its film reaches film_extent x t");
   if (t.has("film_extent")) {
-    if (!law.integrated) t.fail("film_extent", "applies only with film = \"integrated\"");
+    if (!law.integrated) t.fail("film_extent", "applies only with film = \"integrated\" or \"bonds\"");
     law.film_extent = t.number("film_extent");
     if (!(law.film_extent >= 0.0 && law.film_extent <= 100.0))
       t.fail("film_extent",
@@ -122,6 +123,15 @@ LayerLaw read_layer_law(const ParamTable& t) {
     } catch (const InputError&) {  // a plain number: seconds
     }
     if (word != "elapsed") law.load_time = t.positive("load_time", dim::time);
+  }
+  if (law.bonds) {
+    // what the pair springs do not have yet (docs/theory/contact.md, "film = bonds")
+    if (law.shear_cap)
+      t.fail("shear_cap",
+             "film = \"bonds\" has no Coulomb cap on its pairs yet (a capped pair needs its slip history, which "
+             "checkpoints do not keep): give shear_cap = \"none\"");
+    if (law.flows())
+      t.fail(law.flow_stress > 0.0 ? "flow_stress" : "flow_factor", "film flow is not built for film = \"bonds\"");
   }
   return law;
 }

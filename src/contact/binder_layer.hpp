@@ -58,6 +58,16 @@ struct LayerLaw {
   // thickens), spread over the particles within one cell of the other body, whose nodes the grid
   // lets the two sides share: the spring's total no longer depends on how wide that band is.
   bool integrated = false;
+  // film = "bonds" (not the paper decks' law: no shear cap, no flow, one process, 2-D): the same
+  // film, found as with "integrated", carried by springs between particle pairs instead of at the
+  // nodes: every particle facing the other body within film_extent x t is tied to its nearest
+  // particle there by k_n = M_b a / (2 (t + g)), k_t = G_b a / (2 (t + g)) (a = spacing^(D-1), g the
+  // local gap; both sides tie, hence the half) along the pair's reference direction. The springs are
+  // the gradient of one energy, so they can make none; where both sides are bonded the node leaves
+  // the two fields alone and the pairs carry the film (Coulomb elsewhere, and once squeezed out).
+  // The binder particles in a pair's gap join the nearer grain's field (setup_binder_layers): the
+  // springs are that binder. Implies integrated.
+  bool bonds = false;
   double film_extent = 4.0;
   std::string binder;    // material whose moduli make D_n, D_t ("" when given directly)
   double load_time = 0;  // s: secant over this fixed time; 0 = over the elapsed run time

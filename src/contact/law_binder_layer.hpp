@@ -130,7 +130,9 @@ struct BinderLayerLaw {
   [[gnu::always_inline]] Exchange<D> exchange(const NodeContact<D>& c) const {
     if (c.layers && c.a.bonded() && c.r.bonded()) {
       const LayerImpulse<D> J = layer_impulse<D>(*layer, c.a, c.r, c.xi, c.dt, c.after_update);
-      if (J.state == LayerState::waits) return Exchange<D>{};
+      // film = "bonds": the particle pairs carry the film (Solver::bond_impulses); the node leaves the
+      // two bonded fields alone until the layer is squeezed out or torn
+      if (J.state == LayerState::waits || (J.state == LayerState::acts && layer->bonds)) return Exchange<D>{};
       if (J.state == LayerState::acts) {
         Exchange<D> e;
         e.acts = true;

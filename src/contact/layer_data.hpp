@@ -66,10 +66,24 @@ struct LayerSums {
   }
 };
 
+// film = "bonds": a spring between two particles of different bodies across their film, found once
+// by setup_binder_layers (the particles are in their final storage order by then, and a run with
+// bonds is not split over ranks). Force on p: K (x_q - x_p - d0), K = coef (M_b n0 n0^T + G_b (I -
+// n0 n0^T)) with the law's current moduli; on q the opposite.
+template <int D>
+struct LayerBond {
+  std::uint32_t p = 0, q = 0;
+  int layer = 0;    // index into ContactMatrix::layers
+  double coef = 0;  // a / (2 (t + g)): the pair's share of the film per unit modulus, m (2-D: per metre of depth)
+  Vec<D> d0, n0;    // reference x_q - x_p, m, and its unit direction
+};
+
 template <int D>
 struct LayerData {
   LayerParticles<D> particles;
   LayerSums<D> sums;
+  std::vector<LayerBond<D>> bonds;
+  long gap_particles_joined = 0;  // film = "bonds": binder particles in the pairs' gaps moved to a grain's field
   // the run has a binder_layer law (its sums are allocated with the grid)
   bool on() const { return !sums.mbond.empty(); }
 };

@@ -4,6 +4,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "core/error.hpp"
 #include "grid/strip_bins.hpp"
 
 namespace pbx {
@@ -35,6 +36,11 @@ void order_by_strip(Scene<D>& sc) {
     std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return strip[a] < strip[b]; });
     P.reorder(order);
     sc.layer_data.particles.reorder(order);
+    if (!sc.layer_data.bonds.empty()) {  // the pairs follow their particles to their new places
+      std::vector<std::uint32_t> place(np);
+      for (std::size_t k = 0; k < np; ++k) place[order[k]] = static_cast<std::uint32_t>(k);
+      for (auto& b : sc.layer_data.bonds) b.p = place[b.p], b.q = place[b.q];
+    }
     // the per-particle data the layers' setup reads move with the particles
     const auto permute = [&](auto& v) {
       if (v.empty()) return;
@@ -84,6 +90,10 @@ void keep_particle_range(Scene<D>& sc, std::size_t begin, std::size_t end) {
     for (auto& i : st.index) i -= static_cast<std::uint32_t>(begin);
     if (hs > 0) keep_range(st.history, lo * hs, hi * hs);
   }
+  if (!sc.layer_data.bonds.empty())
+    throw InputError(
+        "contact: film = \"bonds\" is not built for a run over MPI ranks (its pairs join particles "
+        "that ranks would hold apart); run it on one process");
   P.keep(begin, end);
   sc.layer_data.particles.keep(begin, end);
   keep_range(sc.grain_coat, begin, end);

@@ -33,6 +33,23 @@ Solver<D>::Solver(Scene<D>& scene) : sc_(scene) {
   contact_tally_ = ContactTally<D>(sc_.deformable_fields);
   bins_.deferred = &books_;
   dissipated_material_.assign(sc_.materials.size(), 0.0);
+  if (!sc_.layer_data.bonds.empty()) {
+    // The pairs are explicit springs: stable while omega dt < 2 for their stiffest mode. Bounded per
+    // particle (Gershgorin) by omega^2 <= sum over its pairs of k (1/m_p + 1/m_q), with k the law's
+    // largest normal modulus over the run (its table starts at the instantaneous one); half of 2/omega.
+    bond_dp_.assign(P.size(), Vec<D>::Zero());
+    std::vector<double> w2(P.size(), 0.0);
+    const double fs = sc_.settings.mass_scaling;
+    for (const auto& b : sc_.layer_data.bonds) {
+      const auto& L = sc_.contact.layers[static_cast<std::size_t>(b.layer)];
+      const double kmax = b.coef * std::max(*std::max_element(L.normal.begin(), L.normal.end()),
+                                            *std::max_element(L.shear.begin(), L.shear.end()));
+      const double c = kmax * (1.0 / (fs * P.mass[b.p]) + 1.0 / (fs * P.mass[b.q]));
+      w2[b.p] += c, w2[b.q] += c;
+    }
+    const double w2max = *std::max_element(w2.begin(), w2.end());
+    if (w2max > 0.0) bond_dt_ = 1.0 / std::sqrt(w2max);
+  }
 }
 
 template <int D>
@@ -182,7 +199,7 @@ double Solver<D>::stable_time_step() const {
   double body_speed = 0;
   for (const auto& b : sc_.bodies) body_speed = std::max(body_speed, b.velocity.norm());
   const double c = cmax_ / std::sqrt(sc_.settings.mass_scaling) + std::max(vmax_, body_speed);
-  return sc_.settings.cfl * sc_.grid.h / c;
+  return std::min(sc_.settings.cfl * sc_.grid.h / c, bond_dt_);
 }
 
 // ------------------------------------------------------------------------------------- the step
@@ -419,6 +436,7 @@ void Solver<D>::contact(bool record, bool after_update) {
                      sc_.layer_data.on() ? &sc_.layer_data.sums : nullptr, smooth ? &springs_ : nullptr, &bins_,
                      book_friction);
     if (smooth) spring_impulses_through_particles();
+    if (after_update && !sc_.layer_data.bonds.empty()) bond_impulses();
   }
   if (walls_last) rigid_stage(record);
 }
@@ -512,6 +530,48 @@ void Solver<D>::spring_impulses_impl() {
     springs_.node[static_cast<std::size_t>(i)] = 0;
     for (long f = 0; f < nf; ++f) springs_.impulse[static_cast<std::size_t>(f * nn + i)] = Vec<D>::Zero();
   }
+}
+
+// film = "bonds": every pair's spring acts over the step with the force at the particles' positions
+// at its start (explicit, the gradient of one energy, so the pairs make none; stable below bond_dt_).
+// Each particle's impulse reaches its field's nodes by its shape functions, as its momentum does in
+// P2G; the pairs hold 1/2 K s.s at the start of the step (booked as the layers' energy).
+template <int D>
+void Solver<D>::bond_impulses() {
+  with_kernel(sc_.settings.kernel, [&](auto K) { this->template bond_impulses_impl<decltype(K)::value>(); });
+}
+
+template <int D>
+template <Kernel K>
+void Solver<D>::bond_impulses_impl() {
+  auto& g = sc_.grid;
+  const auto& P = sc_.particles;
+  const long nn = g.nodes();
+  double energy = 0;
+  for (const auto& b : sc_.layer_data.bonds) {
+    const LayerLaw& L = sc_.contact.layers[static_cast<std::size_t>(b.layer)];
+    const Vec<D> s = (P.x[b.q] - P.x[b.p]) - b.d0;
+    const double sn = s.dot(b.n0);
+    const Vec<D> st = s - sn * b.n0;
+    const double kn = b.coef * L.kn, kt = b.coef * L.kt;
+    const Vec<D> J = dt_ * (kn * sn * b.n0 + kt * st);
+    bond_dp_[b.p] += J;
+    bond_dp_[b.q] -= J;
+    energy += 0.5 * (kn * sn * sn + kt * st.squaredNorm());
+  }
+  layer_energy_ += energy;
+  const double inv_h = 1.0 / g.h;
+  const HalfWidth a(half_width_);
+  auto hand = [&](std::size_t p) {
+    const Vec<D>& dp = bond_dp_[p];
+    if (dp == Vec<D>::Zero()) return;
+    const Stencil<D> st = make_stencil<D, K>(P.x[p], g.origin, inv_h, a, &g.clamped);
+    const long off = static_cast<long>(P.field[p]) * nn;
+    for_each_node<D>(st, g.stride, [&](long i, double S, const Vec<D>&) { g.mom[off + i] += S * dp; });
+  };
+  scatter_home([&](long p) { hand(static_cast<std::size_t>(p)); });
+  scatter_strays(hand);
+  for (const auto& b : sc_.layer_data.bonds) bond_dp_[b.p] = bond_dp_[b.q] = Vec<D>::Zero();
 }
 
 template <int D>

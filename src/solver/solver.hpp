@@ -122,6 +122,11 @@ class Solver {
   void spring_impulses_through_particles();
   template <Kernel K>
   void spring_impulses_impl();
+  // film = "bonds": the particle pairs' spring impulses over the step, handed to the grid through
+  // the particles' shape functions (see solver.cpp)
+  void bond_impulses();
+  template <Kernel K>
+  void bond_impulses_impl();
   // Stops the run on particle p, whose stress update gave J <= 0 or a non-finite stress: the
   // message names the step, the particle, its material and place, and the material's reason.
   [[noreturn]] void stop_on_bad_stress(std::uint32_t p) const;
@@ -216,9 +221,11 @@ class Solver {
   // USF and MUSL (final_contact): the node-fields the final contact pass changed, ascending, with
   // their final velocities
   ContactVelocities contact_vel_;
-  SpringImpulses<D> springs_;            // the springs' impulses of the pass after the update, and their nodes
-  ScatterExchange* exchange_ = nullptr;  // a decomposed run's halo exchange (null: one process)
-  DeferredSums books_;                   // where the books' sums wait in a decomposed run (bins_.deferred)
+  SpringImpulses<D> springs_;    // the springs' impulses of the pass after the update, and their nodes
+  std::vector<Vec<D>> bond_dp_;  // film = "bonds": each particle's impulse from its pairs this step
+  double bond_dt_ = std::numeric_limits<double>::infinity();  // the pairs' stable step (their stiffest mode)
+  ScatterExchange* exchange_ = nullptr;                       // a decomposed run's halo exchange (null: one process)
+  DeferredSums books_;  // where the books' sums wait in a decomposed run (bins_.deferred)
 };
 
 }  // namespace pbx
