@@ -125,11 +125,7 @@ LayerLaw read_layer_law(const ParamTable& t) {
     if (word != "elapsed") law.load_time = t.positive("load_time", dim::time);
   }
   if (law.bonds) {
-    // what the pair springs do not have yet (docs/theory/contact.md, "film = bonds")
-    if (law.shear_cap)
-      t.fail("shear_cap",
-             "film = \"bonds\" has no Coulomb cap on its pairs yet (a capped pair needs its slip history, which "
-             "checkpoints do not keep): give shear_cap = \"none\"");
+    // what the pair springs do not have yet (docs/theory/contact.md, "Films on particle pairs")
     if (law.flows())
       t.fail(law.flow_stress > 0.0 ? "flow_stress" : "flow_factor", "film flow is not built for film = \"bonds\"");
   }

@@ -58,13 +58,14 @@ struct LayerLaw {
   // thickens), spread over the particles within one cell of the other body, whose nodes the grid
   // lets the two sides share: the spring's total no longer depends on how wide that band is.
   bool integrated = false;
-  // film = "bonds" (not the paper decks' law: no shear cap, no flow, one process, 2-D): the same
+  // film = "bonds" (not the paper decks' law; no film flow, one process, 2-D): the same
   // film, found as with "integrated", carried by springs between particle pairs instead of at the
   // nodes: every particle facing the other body within film_extent x t is tied to its nearest
   // particle there by k_n = M_b a / (2 (t + g)), k_t = G_b a / (2 (t + g)) (a = spacing^(D-1), g the
-  // local gap; both sides tie, hence the half) along the pair's reference direction. The springs are
-  // the gradient of one energy, so they can make none; where both sides are bonded the node leaves
+  // local gap; both sides tie, hence the half) along the pair's reference direction. Uncapped the
+  // springs are the gradient of one energy, so they can make none; where both sides are bonded the node leaves
   // the two fields alone and the pairs carry the film (Coulomb elsewhere, and once squeezed out).
+  // The shear cap (Eq. 7) applies to each pair as at a node (bond_force, law_binder_layer.hpp).
   // The binder particles in a pair's gap join the nearer grain's field (setup_binder_layers): the
   // springs are that binder. Implies integrated.
   bool bonds = false;

@@ -122,6 +122,33 @@ LayerImpulse<D> layer_impulse(const LayerLaw& L, const Side<D>& a, const Side<D>
   return out;
 }
 
+// film = "bonds": the force of a pair's spring on its first particle (the second takes the
+// opposite), N per metre of depth in 2-D, and the energy it holds. s is the change of the pair's
+// separation since the start, n0 its reference direction, coef its share of the film per unit
+// modulus (LayerBond::coef): f = k_n s_n n0 + k_t s_t with the node law's Eq. 7 cap, shear at most
+// friction x the compressive normal force and none in tension, on the pair's total tangential change
+// (a pair keeps no slip history, as a node keeps none: nonlinear elastic, dissipating nothing).
+// Energy F^2 / 2k per spring, so a capped pair holds cap^2 / 2k_t.
+template <int D>
+struct BondForce {
+  Vec<D> f;
+  double energy = 0;
+};
+
+template <int D>
+BondForce<D> bond_force(const LayerLaw& L, double coef, const Vec<D>& n0, const Vec<D>& s) {
+  const double kn = coef * L.kn, kt = coef * L.kt, sn = s.dot(n0), fn = kn * sn;
+  Vec<D> ft = kt * (s - sn * n0);
+  if (L.shear_cap) {
+    const double cap = sn < 0.0 ? -L.friction * fn : 0.0, m = ft.norm();
+    if (m > cap) ft *= m > 0.0 ? cap / m : 0.0;
+  }
+  BondForce<D> out;
+  out.f = fn * n0 + ft;
+  out.energy = 0.5 * (fn * fn / kn + (kt > 0.0 ? ft.squaredNorm() / kt : 0.0));
+  return out;
+}
+
 struct BinderLayerLaw {
   static constexpr bool needs_normal = true;
   const LayerLaw* layer = nullptr;  // the layer's parameters and its stiffnesses now (LayerLaw::at_time)

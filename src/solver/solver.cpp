@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "contact/field_contact.hpp"
+#include "contact/law_binder_layer.hpp"
 #include "contact/rigid_contact.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -533,7 +534,8 @@ void Solver<D>::spring_impulses_impl() {
 }
 
 // film = "bonds": every pair's spring acts over the step with the force at the particles' positions
-// at its start (explicit, the gradient of one energy, so the pairs make none; stable below bond_dt_).
+// at its start (explicit; uncapped the gradient of one energy, so the pairs make none; stable below
+// bond_dt_; the shear cap as at a node, bond_force).
 // Each particle's impulse reaches its field's nodes by its shape functions, as its momentum does in
 // P2G; the pairs hold 1/2 K s.s at the start of the step (booked as the layers' energy).
 template <int D>
@@ -550,14 +552,11 @@ void Solver<D>::bond_impulses_impl() {
   double energy = 0;
   for (const auto& b : sc_.layer_data.bonds) {
     const LayerLaw& L = sc_.contact.layers[static_cast<std::size_t>(b.layer)];
-    const Vec<D> s = (P.x[b.q] - P.x[b.p]) - b.d0;
-    const double sn = s.dot(b.n0);
-    const Vec<D> st = s - sn * b.n0;
-    const double kn = b.coef * L.kn, kt = b.coef * L.kt;
-    const Vec<D> J = dt_ * (kn * sn * b.n0 + kt * st);
+    const BondForce<D> F = bond_force<D>(L, b.coef, b.n0, Vec<D>((P.x[b.q] - P.x[b.p]) - b.d0));
+    const Vec<D> J = dt_ * F.f;
     bond_dp_[b.p] += J;
     bond_dp_[b.q] -= J;
-    energy += 0.5 * (kn * sn * sn + kt * st.squaredNorm());
+    energy += F.energy;
   }
   layer_energy_ += energy;
   const double inv_h = 1.0 / g.h;

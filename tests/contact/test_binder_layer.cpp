@@ -653,7 +653,6 @@ TEST(BinderLayer, IntegratedFilmOnAFlatContactIsTheUniformFilm) {
     std::string d = column_deck(240.0, 1.0, 1.0);
     const std::size_t at = d.find("normal_stiffness");
     d = d.substr(0, at) + fmt::format("binder = \"film\"\nthickness = \"2 um\"\nfilm = \"{}\"\n", film);
-    if (std::string(film) == "bonds") d += "shear_cap = \"none\"\n";
     d += R"(
 [materials.film]
 model = "linear_elastic"

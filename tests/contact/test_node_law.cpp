@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "contact/field_contact.hpp"
+#include "contact/law_binder_layer.hpp"
 
 using namespace pbx;
 
@@ -232,6 +233,35 @@ TEST(NodeLaw, BinderLayerCappedShearVanishesInTension) {
   field_contact<2>(n.g, n.cm, 2, dt, 0.0, nullptr, true, nullptr, &n.s);
   EXPECT_GT(n.g.mom[0].x(), 0.0);  // a pulled towards b
   EXPECT_EQ(n.g.mom[0].y(), 0.0);
+}
+
+// film = "bonds": a pair's spring by hand. coef 0.5 m, k_n = 0.5 x 3.6e8, k_t = 0.5 x 7e7 (N/m per m
+// of depth); closing by 0.2 um along n0 = +x and sliding by 1 um along +y: the normal force on p is
+// k_n s_n n0 (pushed away from q, -x), the shear k_t s_t uncapped and mu x |f_n| with Eq. 7; none in
+// tension; the energy F^2 / 2k per spring.
+TEST(NodeLaw, BondPairForceIsTheSpringWithTheCoulombCap) {
+  LayerLaw L;
+  L.friction = 0.3;
+  L.kn = 3.6e8;
+  L.kt = 7.0e7;
+  const double coef = 0.5, kn = coef * L.kn, kt = coef * L.kt;
+  const Vec<2> n0(1.0, 0.0), closing(-0.2e-6, 1.0e-6), opening(0.2e-6, 1.0e-6);
+  for (const bool cap : {false, true}) {
+    L.shear_cap = cap;
+    const BondForce<2> c = bond_force<2>(L, coef, n0, closing);
+    const double fn = kn * -0.2e-6, ft_spring = kt * 1.0e-6;
+    ASSERT_LT(0.3 * std::abs(fn), 0.5 * ft_spring) << "the cap must bind in this case";
+    const double ft = cap ? 0.3 * std::abs(fn) : ft_spring;
+    EXPECT_NEAR(c.f.x(), fn, 1e-12 * std::abs(fn)) << cap;
+    EXPECT_NEAR(c.f.y(), ft, 1e-12 * ft) << cap;
+    EXPECT_NEAR(c.energy, 0.5 * (fn * fn / kn + ft * ft / kt), 1e-12 * c.energy) << cap;
+    const BondForce<2> o = bond_force<2>(L, coef, n0, opening);
+    EXPECT_NEAR(o.f.x(), kn * 0.2e-6, 1e-12 * kn * 0.2e-6) << cap;  // pulled towards q
+    EXPECT_EQ(o.f.y(), cap ? 0.0 : ft_spring) << cap;
+  }
+  L.shear_cap = true;  // a small slide below the cap keeps the spring's shear
+  const BondForce<2> small = bond_force<2>(L, coef, n0, Vec<2>(-0.2e-6, 0.1e-6));
+  EXPECT_NEAR(small.f.y(), kt * 0.1e-6, 1e-12 * kt * 0.1e-6);
 }
 
 // Squeezed out: a closure beyond closure x t (here the whole 4 um layer) hands the node to
