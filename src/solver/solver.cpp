@@ -537,7 +537,7 @@ void Solver<D>::spring_impulses_impl() {
 // at its start (explicit; uncapped the gradient of one energy, so the pairs make none; stable below
 // bond_dt_; the shear cap as at a node, bond_force).
 // Each particle's impulse reaches its field's nodes by its shape functions, as its momentum does in
-// P2G; the pairs hold 1/2 K s.s at the start of the step (booked as the layers' energy).
+// P2G; the pairs' energy at the start of the step (bond_force) is booked as the layers' energy.
 template <int D>
 void Solver<D>::bond_impulses() {
   with_kernel(sc_.settings.kernel, [&](auto K) { this->template bond_impulses_impl<decltype(K)::value>(); });

@@ -119,7 +119,10 @@ TEST(ContactDeck, BadDecksNameTheKey) {
               HasSubstr("coat_scale"));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"bonded\"\n"),
               AllOf(HasSubstr("film"), HasSubstr("'uniform', 'integrated' or 'bonds'")));
-  // film = "bonds": film flow is not built for its pairs, and is refused naming the key
+  // film = "bonds": film flow is not built for its pairs, and direct stiffnesses per area do not make
+  // a pair's spring (a film takes binder and thickness); both refused naming the key
+  EXPECT_THAT(error_of(layer + "friction = 0.3\nnormal_stiffness = 1e15\nshear_stiffness = 1e14\nfilm = \"bonds\"\n"),
+              AllOf(HasSubstr("film"), HasSubstr("binder and thickness, not both")));
   EXPECT_THAT(error_of(layer + "friction = 0.3\nbinder = \"f2314\"\nthickness = \"2 um\"\nfilm = \"bonds\"\n"
                                "flow_factor = 0.5\n"),
               AllOf(HasSubstr("flow_factor"), HasSubstr("film = \"bonds\"")));
