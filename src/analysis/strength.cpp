@@ -12,9 +12,10 @@ namespace pbx {
 Strength strength_and_yield(const std::vector<double>& strain, const std::vector<double>& stress,
                             const LineFit& elastic, double linear_hi, const StrengthOptions& opt) {
   Strength s;
-  double last = -HUGE_VAL;
+  double last = -HUGE_VAL, run_end = -HUGE_VAL;
   std::size_t imax = strain.size();
   for (std::size_t i = 0; i < strain.size(); ++i) {
+    if (std::isfinite(stress[i])) run_end = std::max(run_end, strain[i]);
     if (strain[i] > opt.max_strain || !std::isfinite(stress[i])) continue;
     last = std::max(last, strain[i]);
     if (imax == strain.size() || stress[i] > stress[imax]) imax = i;
@@ -25,8 +26,11 @@ Strength strength_and_yield(const std::vector<double>& strain, const std::vector
   s.strain_at_peak = strain[imax];
   // "Still rising": the maximum sits in the last 2 % of the window, i.e. no peak or plateau was seen.
   s.still_rising = strain[imax] >= last - 0.02 * (last - strain.front()) && last > linear_hi;
-  if (last < opt.max_strain * 0.999) {
-    s.note = fmt::format("the run ends at strain {:.4g} before the strength window end {:.4g}", last, opt.max_strain);
+  // Only a run that stops short is worth a note: the history's last row at or below the window's end
+  // lies up to one row spacing before it (0.02991 for rows every 0.01 % of strain), which is not that.
+  if (run_end < opt.max_strain * 0.999) {
+    s.note =
+        fmt::format("the run ends at strain {:.4g} before the strength window end {:.4g}", run_end, opt.max_strain);
   }
   // The plateau mean: trapezoidal integral of the stress over [plateau_from, last] divided by its
   // length (the history is written at equal strain steps, but the mean must not depend on that).

@@ -14,6 +14,7 @@
 #include "analysis/csv_table.hpp"
 #include "analysis/linear_window.hpp"
 #include "analysis/run_analysis.hpp"
+#include "analysis/strength.hpp"
 #include "core/error.hpp"
 #include "io/deck.hpp"
 #include "synthetic_run.hpp"
@@ -577,4 +578,20 @@ TEST(RunAnalysis, ModuliThatDependOnTheWindowAreWarnedAbout) {
     }
   }
   fs::remove_all(dir);
+}
+
+// The "run ends before the strength window" note is for runs that stop short, not for histories whose
+// rows straddle the window's end: rows every 0.01 % of strain from 0.0001 to 0.035 have their last row
+// at or below 3 % at 2.991 % (the quick study's runs carried the note until 2026-12-07); a run that
+// stops at 2 % keeps it.
+TEST(Strength, NoteOnlyWhenTheRunStopsBeforeTheWindowEnds) {
+  std::vector<double> e, sigma;
+  for (int i = 1; i <= 350; ++i) e.push_back(i * 1e-4 - 9e-5), sigma.push_back(1e9 * e.back());
+  const LineFit elastic = fit_line(e, sigma);
+  const Strength whole = strength_and_yield(e, sigma, elastic, 0.004, StrengthOptions{});
+  EXPECT_NEAR(whole.window_end, 0.02991, 1e-9);
+  EXPECT_EQ(whole.note.find("the run ends"), std::string::npos) << whole.note;
+  e.resize(200), sigma.resize(200);
+  const Strength short_run = strength_and_yield(e, sigma, elastic, 0.004, StrengthOptions{});
+  EXPECT_NE(short_run.note.find("the run ends at strain 0.01991"), std::string::npos) << short_run.note;
 }
