@@ -126,7 +126,9 @@ void check_restart(const std::string& integrator, double flip, const std::string
   };
   EXPECT_GT(last("dissipated_J_per_m"), 0.02 * last("internal_J_per_m")) << integrator;  // 25 % (usf, usl, musl)
   // (with film = "bonds" the pairs carry the grains' film and the nodes leave them alone)
-  if (film.empty()) EXPECT_GT(last("contact_tatb_tatb_fn_N_per_m"), 0.0) << integrator;
+  if (film.empty()) {
+    EXPECT_GT(last("contact_tatb_tatb_fn_N_per_m"), 0.0) << integrator;
+  }
   EXPECT_GT(last("layer_energy_J_per_m"), 0.0) << integrator;
   // the dissipation's parts (history columns since 2026-12-06): each present, and together the
   // total to round-off; a part the checkpoint forgot restarts at zero and the byte check above fails
