@@ -42,6 +42,8 @@
 
 #include "../engine/block_deck.hpp"
 #include "../engine/scene_fixture.hpp"
+#include "core/error.hpp"
+#include "solver/scene.hpp"
 
 using namespace pbx;
 
@@ -786,6 +788,20 @@ TEST(BinderLayer, BondedGapsBinderParticlesJoinAGrainAndTheEnergyBalances) {
                last, worst, rows);
   ASSERT_GT(rows, 30);
   EXPECT_LT(worst, 0.02);
+}
+
+// A pair joins two particles that a run over MPI ranks could hand to different ranks: a rank's
+// share of such a scene is refused with the reason, not stepped with pairs pointing elsewhere.
+TEST(BinderLayer, BondedPairsAreRefusedInARunOverRanks) {
+  Scene<2> sc = test::scene_from(disk_between_slabs("bonds"));
+  ASSERT_FALSE(sc.layer_data.bonds.empty());
+  try {
+    keep_particle_range(sc, 0, sc.particles.size() / 2);
+    FAIL() << "a rank's share of a scene with film = \"bonds\" was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("film = \"bonds\" is not built for a run over MPI ranks"), std::string::npos)
+        << e.what();
+  }
 }
 
 // The automatic bonded zone of a layer with a thickness: closure x t + one cell. A 12 um binder
