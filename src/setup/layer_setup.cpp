@@ -157,6 +157,13 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   if (integrated && sc.grain_index.size() != np)
     root.table("contact").fail(
         "pair", "film = \"integrated\" needs the bodies of the particles (packed grains or [[geometry]] entries)");
+  // refused up front, not at the first pair found: a 3-D scene whose films happen to meet no pair
+  // would otherwise run with the bonded nodes left alone and no film at all
+  if constexpr (D == 3)
+    if (std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.bonds; }))
+      root.table("contact").fail("pair",
+                                 "film = \"bonds\" is built for 2-D scenes only (its pairs, their stable step "
+                                 "and the binder's join are verified in 2-D only); use film = \"integrated\" in 3-D");
   std::vector<int> other(np, -1);
   std::vector<long> nearest_of(np, -1);  // film = "bonds": the particle a facing particle ties to
   std::vector<double> local_gap(np, 0.0), local_t(np, 0.0), extent(np, 0.0);
@@ -227,7 +234,6 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       const int layer = cm(P.field[p], P.field[q]).layer;
       const LayerLaw& L = cm.layers[static_cast<std::size_t>(layer)];
       if (!L.bonds || local_gap[p] > std::max(extent[p] * local_t[p], h)) continue;
-      if constexpr (D == 3) root.table("contact").fail("pair", "film = \"bonds\" is built for 2-D scenes only");
       LayerBond<D> b;
       b.p = static_cast<std::uint32_t>(p);
       b.q = static_cast<std::uint32_t>(q);

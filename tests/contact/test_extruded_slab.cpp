@@ -131,3 +131,23 @@ TEST(ExtrudedSlab, GrainsIn3DAreCylindersOrRefused) {
     EXPECT_NE(std::string(e.what()).find("3-D runs only"), std::string::npos) << e.what();
   }
 }
+
+// film = "bonds" is verified in 2-D only: a 3-D scene with it is refused before it runs, whether or
+// not its films meet a pair (the bonded nodes would otherwise leave the grains with no film at all).
+TEST(ExtrudedSlab, BondedPairFilmIsRefusedIn3D) {
+  std::string text = slab_deck(true);
+  const std::string integrated = "film = 'integrated'";  // as the override writer prints it
+  ASSERT_NE(text.find(integrated), std::string::npos);
+  text.replace(text.find(integrated), integrated.size(), "film = 'bonds'");
+  try {
+    test::scene_from<3>(text);
+    ADD_FAILURE() << "film = \"bonds\" accepted in 3-D";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("film = \"bonds\" is built for 2-D scenes only"), std::string::npos)
+        << e.what();
+  }
+  // the same deck in 2-D builds
+  std::string two = slab_deck(false, "");
+  two.replace(two.find(integrated), integrated.size(), "film = 'bonds'");
+  EXPECT_NO_THROW(test::scene_from<2>(two));
+}
