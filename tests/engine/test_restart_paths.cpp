@@ -20,6 +20,7 @@
 #include "../deck_parts.hpp"
 #include "../materials/material_fixtures.hpp"
 #include "io/checkpoint.hpp"
+#include "io/json.hpp"
 #include "scene_fixture.hpp"
 
 namespace fs = std::filesystem;
@@ -85,12 +86,28 @@ void check_restart(const std::string& integrator, double flip, const std::string
   o.deck_text = deck;
   o.deck_name = "two_grains";
   o.checkpoint_every = 25;  // rows 25 and 50 of 61: the file keeps row 50, after two snapshots
+  std::size_t pairs = 0;
+  double pairs_a_over_t = 0;
   {
     Scene<2> sc = test::scene_from(deck);
+    for (const auto& b : sc.layer_data.bonds) ++pairs, pairs_a_over_t += b.coef;
     Runner<2> r(sc, o);
     r.run();
   }
   ASSERT_TRUE(fs::exists(dir / "a" / "checkpoint.h5"));
+  // run.json states the film the pairs carry (film = "bonds" only): the scene's own pairs
+  {
+    const Json spec = json_read_file((dir / "a" / "run.json").string())["specimen"];
+    if (film == "bonds") {
+      ASSERT_GT(pairs, 0u);
+      ASSERT_NE(json_find(spec, "film_pairs"), nullptr);
+      EXPECT_EQ(json_number(spec["film_pairs"]), static_cast<double>(pairs));
+      EXPECT_DOUBLE_EQ(json_number(spec["film_pairs_sum_a_over_t"]), pairs_a_over_t);
+      EXPECT_GE(json_number(spec["film_gap_binder_particles_joined"]), 0.0);
+    } else {
+      EXPECT_EQ(json_find(spec, "film_pairs"), nullptr);
+    }
+  }
   const CheckpointData c = read_checkpoint((dir / "a" / "checkpoint.h5").string());
   // the interrupted copy: the run's folder as the checkpoint left it (history and snapshots beyond
   // the checkpoint are there too, as after a kill; the restart must cut and rewrite them)
