@@ -58,6 +58,14 @@ LayerLaw read_layer_law(const ParamTable& t) {
     law.integrated = film == "integrated" || film == "bonds";
     law.bonds = film == "bonds";
   }
+  law.join_gap_binder = law.bonds;
+  if (t.has("gap_binder")) {
+    const std::string gap = t.string("gap_binder");
+    if (gap != "join" && gap != "free") t.fail("gap_binder", fmt::format("must be 'join' or 'free', got '{}'", gap));
+    if (!law.integrated)
+      t.fail("gap_binder", "applies only with film = \"integrated\" or \"bonds\" (the gaps are those of its film)");
+    law.join_gap_binder = gap == "join";
+  }
   if (law.integrated && t.has("bond_gap"))
     t.fail("bond_gap",
            "does not apply with film = \"integrated\": its springs act on the band of one cell that the grid lets "
@@ -87,7 +95,8 @@ LayerLaw read_layer_law(const ParamTable& t) {
   }
   const bool direct = t.has("normal_stiffness") || t.has("shear_stiffness");
   if (direct) {
-    for (const char* k : {"binder", "thickness", "coat_scale", "load_time", "closure", "film", "film_extent"})
+    for (const char* k :
+         {"binder", "thickness", "coat_scale", "load_time", "closure", "film", "film_extent", "gap_binder"})
       if (t.has(k)) t.fail(k, "give either normal_stiffness and shear_stiffness, or binder and thickness, not both");
     if (law.bond_within_thickness)
       t.fail("bond_gap", "\"thickness\" needs a layer thickness: give binder and thickness");

@@ -69,6 +69,12 @@ struct LayerLaw {
   // The binder particles in a pair's gap join the nearer grain's field (setup_binder_layers): the
   // springs are that binder. Implies integrated.
   bool bonds = false;
+  // gap_binder = "join": the binder particles lying between two bonded grains (within a particle
+  // spacing of a facing pair's segment) join the nearer grain's field, so that the film is counted
+  // once, by the springs. The default with film = "bonds"; an option with "integrated", whose
+  // default ("free") leaves them a phase of their own, met by both grains through contact, which
+  // counts the film a second time (docs/theory/paper_study.md, "Where the density trend comes from").
+  bool join_gap_binder = false;
   double film_extent = 4.0;
   std::string binder;    // material whose moduli make D_n, D_t ("" when given directly)
   double load_time = 0;  // s: secant over this fixed time; 0 = over the elapsed run time

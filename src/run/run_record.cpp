@@ -51,14 +51,16 @@ void Runner<D>::write_run_json(const std::string& status, const std::string& mes
     }
     // film = "bonds" (one process only, so these are the whole specimen's): how much film the pairs
     // carry, the quantity that sets the specimen's stiffness when the binder is counted once
-    // (docs/theory/paper_study.md, "The density sweep at 10 um with film = bonds")
+    // (docs/theory/paper_study.md, "Where the density trend comes from")
     if (const auto& bonds = sc_.layer_data.bonds; !bonds.empty()) {
       double coef = 0;
       for (const auto& b : bonds) coef += b.coef;
       specimen["film_pairs"] = bonds.size();
       specimen["film_pairs_sum_a_over_t"] = coef;  // sum over pairs of a / (2 (t + g)); 2-D: m per m of depth
-      specimen["film_gap_binder_particles_joined"] = sc_.layer_data.gap_particles_joined;
     }
+    // gap_binder = "join" (film = "bonds", or "integrated" with the option)
+    if (!sc_.layer_data.bonds.empty() || sc_.layer_data.gap_particles_joined > 0)
+      specimen["film_gap_binder_particles_joined"] = sc_.layer_data.gap_particles_joined;
   }
   Json mats = Json::array();
   for (std::size_t m = 0; m < sc_.materials.size(); ++m)

@@ -645,8 +645,8 @@ Scene<D> build_scene(const Deck& deck, SceneNotes notes) {
     setup_binder_layers(sc, root);
     if (sc.layer_data.gap_particles_joined > 0 && notes == SceneNotes::print)
       fmt::print(stderr,
-                 "pbxmpm: note: film = \"bonds\": {} particles of the binder lying in bonded gaps joined the field of "
-                 "their nearer grain (the pairs' springs carry that binder; docs/theory/contact.md)\n",
+                 "pbxmpm: note: gap_binder = \"join\": {} particles of the binder lying in bonded gaps joined the "
+                 "field of their nearer grain (the film carries that binder; docs/theory/contact.md)\n",
                  sc.layer_data.gap_particles_joined);
     std::vector<double>().swap(sc.grain_coat);  // only the layers' setup reads these
     std::vector<int>().swap(sc.grain_index);

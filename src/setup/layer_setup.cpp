@@ -160,10 +160,11 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
   // refused up front, not at the first pair found: a 3-D scene whose films happen to meet no pair
   // would otherwise run with the bonded nodes left alone and no film at all
   if constexpr (D == 3)
-    if (std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.bonds; }))
+    if (std::any_of(cm.layers.begin(), cm.layers.end(), [](const LayerLaw& l) { return l.bonds || l.join_gap_binder; }))
       root.table("contact").fail("pair",
-                                 "film = \"bonds\" is built for 2-D scenes only (its pairs, their stable step "
-                                 "and the binder's join are verified in 2-D only); use film = \"integrated\" in 3-D");
+                                 "film = \"bonds\" and gap_binder = \"join\" are built for 2-D scenes only (the "
+                                 "pairs, their stable step and the binder's join are verified in 2-D only); use film "
+                                 "= \"integrated\" with its free gap binder in 3-D");
   std::vector<int> other(np, -1);
   std::vector<long> nearest_of(np, -1);  // film = "bonds": the particle a facing particle ties to
   std::vector<double> local_gap(np, 0.0), local_t(np, 0.0), extent(np, 0.0);
@@ -233,7 +234,8 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       const auto q = static_cast<std::size_t>(nearest_of[p]);
       const int layer = cm(P.field[p], P.field[q]).layer;
       const LayerLaw& L = cm.layers[static_cast<std::size_t>(layer)];
-      if (!L.bonds || local_gap[p] > std::max(extent[p] * local_t[p], h)) continue;
+      // (a film whose gap binder joins a grain finds its pairs too, for the join below, and drops them after)
+      if (!(L.bonds || L.join_gap_binder) || local_gap[p] > std::max(extent[p] * local_t[p], h)) continue;
       LayerBond<D> b;
       b.p = static_cast<std::uint32_t>(p);
       b.q = static_cast<std::uint32_t>(q);
@@ -257,6 +259,7 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       std::vector<int> joins(np, -1);
       std::vector<double> closest(np, std::numeric_limits<double>::infinity());
       for (const auto& b : sc.layer_data.bonds) {
+        if (!cm.layers[static_cast<std::size_t>(b.layer)].join_gap_binder) continue;  // gap_binder = "free"
         const Vec<D> a = P.x[b.p], ab = P.x[b.q] - P.x[b.p];
         const long reach = static_cast<long>(std::ceil((0.5 * ab.norm() + spacing) / h)) + 1;
         cells.any_near(a + 0.5 * ab, reach, [&](std::uint32_t r) {
@@ -272,6 +275,9 @@ void setup_binder_layers(Scene<D>& sc, const DeckTable& root) {
       }
       for (std::size_t r = 0; r < np; ++r)
         if (joins[r] >= 0) P.field[r] = joins[r], ++sc.layer_data.gap_particles_joined;
+      // only film = "bonds" keeps its pairs as springs; an integrated film's film stays at the nodes
+      std::erase_if(sc.layer_data.bonds,
+                    [&](const LayerBond<D>& b) { return !cm.layers[static_cast<std::size_t>(b.layer)].bonds; });
     }
     for (std::size_t p = 0; p < np; ++p) {
       if (!touching[p] || other[p] < 0) continue;

@@ -34,6 +34,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -693,7 +694,7 @@ namespace {
 // contacts, where the disk curves away within the film's reach: the binder particles sit in the
 // bonded gap. Everything linear elastic, Coulomb mu = 0.3 between the binder and the bodies; 10 um
 // cells, to 1 % strain.
-std::string disk_between_slabs(const std::string& film) {
+std::string disk_between_slabs(const std::string& film, const std::string& gap_binder = "") {
   return fmt::format(R"(
 [run]
 end_strain = 0.01
@@ -735,6 +736,7 @@ shear_cap = "none"
 binder = "film"
 thickness = "4 um"
 film = "{}"
+{}
 [[geometry]]
 min = ["0.02 mm", "0.06 mm"]
 max = ["0.09 mm", "0.065 mm"]
@@ -760,9 +762,60 @@ max = ["0.24 mm", "0.32 mm"]
 material = "body"
 field = "upper"
 )",
-                     film);
+                     film, gap_binder.empty() ? std::string() : "gap_binder = \"" + gap_binder + "\"");
+}
+
+// (KE + IE)/W of the disk between slabs, worst row's distance from 1 from 0.1 % strain on
+double worst_energy_balance(Scene<2>& sc, const char* what) {
+  Runner<2> r(sc, test::quiet());
+  double worst = 0, last = 0;
+  int rows = 0;
+  r.run([&](const Measurement& m) {
+    if (m.strain < 1e-3 || m.punch_work <= 0.0) return;
+    const double balance = (m.kinetic + m.internal) / m.punch_work;
+    worst = std::max(worst, std::abs(balance - 1.0));
+    last = balance;
+    ++rows;
+  });
+  std::fprintf(stderr, "disk between slabs, %s: (KE + IE)/W at the end %.4f, worst row off by %.4f over %d rows\n",
+               what, last, worst, rows);
+  EXPECT_GT(rows, 30) << what;
+  return worst;
 }
 }  // namespace
+
+// film = "integrated" with gap_binder = "join": the binder particles in the bonded gaps join a grain
+// as with the pairs, the film stays at the nodes, and the energy balance that the free gap binder
+// breaks (crushed between the two fields the bonded nodes let overlap) holds.
+TEST(BinderLayer, IntegratedFilmWithJoinedGapBinderBalancesItsEnergy) {
+  Scene<2> joined = test::scene_from(disk_between_slabs("integrated", "join"));
+  Scene<2> free = test::scene_from(disk_between_slabs("integrated"));
+  EXPECT_TRUE(joined.layer_data.bonds.empty());  // the pairs served the join only
+  EXPECT_GT(joined.layer_data.gap_particles_joined, 5);
+  EXPECT_LT(joined.layer_data.gap_particles_joined, 40);
+  EXPECT_EQ(free.layer_data.gap_particles_joined, 0);
+  const double w_joined = worst_energy_balance(joined, "integrated, gap binder joined");
+  const double w_free = worst_energy_balance(free, "integrated, gap binder free");
+  // measured 2026-12-08: worst row 0.057 joined, 0.138 free (both 0.969 at 1 %; the node film's
+  // springs are not exactly work-conjugate, docs/theory/contact.md): without the join the first fails
+  EXPECT_LT(w_joined, 0.08);
+  EXPECT_GT(w_free, 0.1);
+}
+
+// gap_binder is a property of a film that finds pairs: refused with the uniform film, and its words
+// are checked.
+TEST(BinderLayer, GapBinderNeedsAnIntegratedFilmAndAKnownWord) {
+  for (const auto& [film, gap, says] : {std::tuple{"uniform", "join", "applies only with film"},
+                                        std::tuple{"integrated", "joined", "must be 'join' or 'free'"}}) {
+    try {
+      test::scene_from(disk_between_slabs(film, gap));
+      ADD_FAILURE() << film << " " << gap << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("gap_binder"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+}
 
 // With film = "bonds" the binder particles in a bonded gap join the nearer grain's field, so the
 // film is counted once: kinetic energy plus stress work (the springs' energy included) equals the

@@ -143,7 +143,15 @@ TEST(ExtrudedSlab, BondedPairFilmIsRefusedIn3D) {
     test::scene_from<3>(text);
     ADD_FAILURE() << "film = \"bonds\" accepted in 3-D";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("film = \"bonds\" is built for 2-D scenes only"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("are built for 2-D scenes only"), std::string::npos) << e.what();
+  }
+  // the integrated film's gap binder joined to a grain likewise (its join is verified in 2-D only)
+  text.replace(text.find("film = 'bonds'"), 14, "film = 'integrated'\ngap_binder = 'join'");
+  try {
+    test::scene_from<3>(text);
+    ADD_FAILURE() << "gap_binder = \"join\" accepted in 3-D";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gap_binder = \"join\" are built for 2-D scenes only"), std::string::npos)
         << e.what();
   }
   // the same deck in 2-D builds
