@@ -340,7 +340,8 @@ TEST_F(CommandLine, BashCompletionOffersSubcommandsOptionsAndFiles) {
   for (std::string line; std::getline(lines, line);) files.push_back(line);
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files, (std::vector<std::string>{examples + "/paper/quick.toml", examples + "/paper/quick_bonds.toml",
-                                             examples + "/paper/quick_grain_contact.toml"}));
+                                             examples + "/paper/quick_grain_contact.toml",
+                                             examples + "/paper/quick_joined.toml"}));
 }
 
 // `material` without --temperature drives the material at the deck's run temperature, or, in a

@@ -124,6 +124,7 @@ TEST(PaperDecks, SensitivityStudyRunsAreValidDecks) { build_every_run("sensitivi
 TEST(PaperDecks, ContactDetectionStudyRunsAreValidDecks) { build_every_run("contact_detection.toml"); }
 TEST(PaperDecks, QuickGrainContactStudyRunsAreValidDecks) { build_every_run("quick_grain_contact.toml"); }
 TEST(PaperDecks, QuickBondsStudyRunsAreValidDecks) { build_every_run("quick_bonds.toml"); }
+TEST(PaperDecks, QuickJoinedStudyRunsAreValidDecks) { build_every_run("quick_joined.toml"); }
 TEST(PaperDecks, LayerResolutionStudyRunsAreValidDecks) { build_every_run("layer_resolution.toml"); }
 TEST(PaperDecks, CalibratedStudyRunsAreValidDecks) { build_every_run("calibrated.toml"); }
 
