@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "../deck_parts.hpp"
+#include "io/json.hpp"
 
 namespace fs = std::filesystem;
 
@@ -119,6 +120,30 @@ TEST_F(RunOverRanks, MpirunGivesTheOneProcessHistoryByteForByte) {
     EXPECT_NE(json.find(fmt::format("\"mpi_ranks\": {}", n)), std::string::npos) << json.substr(0, 400);
     EXPECT_TRUE(fs::exists(out / "snapshots" / "snap_0001.h5"));
   }
+}
+
+// The paper specimen with the node film's gap binder joined to a grain (gap_binder = "join"): every
+// rank builds the whole scene, joins the same binder particles, and drops the pairs the join used, so
+// two ranks write the one process's history (the pairs themselves, film = "bonds", are refused over ranks).
+TEST_F(RunOverRanks, PaperSpecimenWithJoinedGapBinderGivesTheOneProcessHistory) {
+  const std::string args = fmt::format(
+      "{}/paper/base.toml --set 'grid.cell_size=\"20 um\"' --set 'run.end_strain=0.0008' "
+      "--set 'run.history_points=15' --set 'contact.pair=[{{ materials = [\"tatb\", \"tatb\"], law = "
+      "\"binder_layer\", friction = 0.3, binder = \"f2314\", thickness = \"coats\", coat_scale = 1.64, film = "
+      "\"integrated\", gap_binder = \"join\" }}]' -q --out ",
+      PBXMPM_EXAMPLES_DIR);
+  const Result one = run(1, args + (dir / "one").string());
+  ASSERT_EQ(one.code, 0) << one.output;
+  const Result two = run(2, args + (dir / "two").string());
+  ASSERT_EQ(two.code, 0) << two.output;
+  const std::string history = read(dir / "one" / "history.csv");
+  ASSERT_GT(history.size(), 1000u);
+  EXPECT_TRUE(read(dir / "two" / "history.csv") == history) << "history.csv on 2 ranks differs from one process's";
+  // the join happened (20 um, seed 1: 397 binder particles)
+  const pbx::Json spec = pbx::json_read_file((dir / "two" / "run.json").string())["specimen"];
+  ASSERT_NE(pbx::json_find(spec, "film_gap_binder_particles_joined"), nullptr);
+  EXPECT_GT(pbx::json_number(spec["film_gap_binder_particles_joined"]), 100.0);
+  EXPECT_EQ(pbx::json_find(spec, "film_pairs"), nullptr);  // no springs on pairs
 }
 
 // The other shape functions over 2 ranks: bspline2, and the linear hat, whose exchange messages carry
