@@ -83,7 +83,7 @@ struct LayerData {
   LayerParticles<D> particles;
   LayerSums<D> sums;
   std::vector<LayerBond<D>> bonds;
-  long gap_particles_joined = 0;  // film = "bonds": binder particles in the pairs' gaps moved to a grain's field
+  long gap_particles_joined = 0;  // gap_binder = "join": binder particles in the pairs' gaps moved to a grain's field
   // the run has a binder_layer law (its sums are allocated with the grid)
   bool on() const { return !sums.mbond.empty(); }
 };
